@@ -1,0 +1,197 @@
+#include "core/build_model.h"
+
+#include <cmath>
+#include <numeric>
+
+#include "core/error.h"
+#include "core/grid.h"
+#include "core/topology.h"
+#include "core/transform.h"
+
+namespace clothsim {
+namespace {
+
+// Springs of one cloth: the grid rule for grids; one edge spring per unique edge and one bend spring across
+// each interior manifold edge for meshes.
+SpringList cloth_springs(const ClothDesc& cloth, const MeshData& mesh, Index& pieces) {
+  if (cloth.grid_nx > 0) {
+    pieces = 1;
+    return make_grid_springs(cloth.grid_nx, cloth.grid_ny);
+  }
+  const Topology topo = build_topology(mesh);
+  pieces = topo.pieces;
+  SpringList s;
+  s.a.reserve(topo.edge_count() + topo.bend_count());
+  for (Index e = 0; e < topo.edge_count(); ++e) s.add(topo.edge_a[e], topo.edge_b[e], SpringKind::edge);
+  for (Index e = 0; e < topo.bend_count(); ++e) s.add(topo.bend_a[e], topo.bend_b[e], SpringKind::bend);
+  return s;
+}
+
+Real kind_scale(const ClothDesc& cloth, SpringKind k) {
+  switch (k) {
+    case SpringKind::shear: return cloth.shear_scale;
+    case SpringKind::bend:
+    case SpringKind::flex: return cloth.bend_scale;
+    default: return 1;
+  }
+}
+
+// Counting sort of (particle, entry) pairs into CSR: entries of a particle keep their input order, so the
+// gather that reads them sums in the same order at any thread count.
+void build_csr(Index n, const std::vector<Index>& owner, const std::vector<Index>& entry,
+               std::vector<Index>& offset, std::vector<Index>& index) {
+  offset.assign(std::size_t(n) + 1, 0);
+  for (Index p : owner) ++offset[p + 1];
+  std::partial_sum(offset.begin(), offset.end(), offset.begin());
+  index.resize(owner.size());
+  std::vector<Index> fill(offset.begin(), offset.end() - 1);
+  for (std::size_t k = 0; k < owner.size(); ++k) index[fill[owner[k]]++] = entry[k];
+}
+
+}  // namespace
+
+MeshData make_cloth_grid(const ClothDesc& cloth) {
+  return make_grid_mesh(cloth.grid_nx, cloth.grid_ny, cloth.grid_w, cloth.grid_h);
+}
+
+BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& meshes) {
+  BuiltScene out;
+  Model& m = out.model;
+  const SimulationDesc& sim = scene.simulation;
+  m.integrator = sim.integrator;
+  m.steps_per_frame = steps_per_frame(sim);
+  m.fps = sim.fps;
+  m.dt = 1.0 / (sim.fps * m.steps_per_frame);
+  m.start_frame = sim.start_frame;
+  m.end_frame = sim.end_frame;
+  m.gravity = sim.gravity + scene.forces.external_acceleration;
+  m.wind_velocity = scene.forces.wind_velocity;
+  m.wind_strength = scene.forces.wind_strength;
+  m.air_damping = scene.forces.air_damping;
+  m.random = scene.forces.random;
+
+  std::vector<Vec3> positions;
+  std::vector<Real> mass, area;
+  std::vector<Real> ke, kd;
+  std::vector<char> pinned_flag;
+
+  for (std::size_t c = 0; c < scene.cloths.size(); ++c) {
+    const ClothDesc& cd = scene.cloths[c];
+    const MeshData& mesh = meshes[c];
+    const Index base = m.particle_count;
+    ClothInfo info;
+    info.name = cd.name;
+    info.save_dir = cd.save_dir;
+    info.save_name = cd.save_name;
+    info.texture = cd.texture;
+    info.friction = cd.friction;
+    info.restitution = cd.restitution;
+    info.thickness = cd.thickness;
+    info.self_collision = cd.self_collision;
+    info.particle_begin = base;
+    info.particle_end = base + mesh.vertex_count();
+    info.tri_begin = m.tri_count;
+    info.tri_end = m.tri_count + mesh.triangle_count();
+    info.uvs = mesh.uvs;
+    info.tri_uv = mesh.tri_uv;
+
+    for (const Vec3& p : mesh.positions) positions.push_back(apply_transform(cd.transform, p));
+    mass.resize(positions.size(), 0.0);
+    area.resize(positions.size(), 0.0);
+    pinned_flag.resize(positions.size(), 0);
+
+    // Mass from areal density lumped to the corners by area (a third each), so refining keeps the total.
+    for (Index t = 0; t < mesh.triangle_count(); ++t) {
+      Index g[3];
+      for (int k = 0; k < 3; ++k) g[k] = base + mesh.tri_index[3 * t + k];
+      const Real a = 0.5 * (positions[g[1]] - positions[g[0]]).cross(positions[g[2]] - positions[g[0]]).norm();
+      for (int k = 0; k < 3; ++k) {
+        area[g[k]] += a / 3;
+        mass[g[k]] += cd.density * a / 3;
+        m.tri_index.push_back(g[k]);
+      }
+    }
+    m.tri_count += mesh.triangle_count();
+
+    for (Index p : cd.pins) {
+      if (p < 0 || p >= mesh.vertex_count())
+        throw Error(scene.path, cd.line,
+                    "cloth '" + cd.name + "': pinned vertex " + std::to_string(p) + " is out of range (the mesh has " +
+                        std::to_string(mesh.vertex_count()) + " vertices, numbered from 0)");
+      pinned_flag[base + p] = 1;
+    }
+
+    SpringList springs = cloth_springs(cd, mesh, info.pieces);
+    info.spring_begin = m.spring_count;
+    for (Index s = 0; s < springs.size(); ++s) {
+      const Index a = base + springs.a[s], b = base + springs.b[s];
+      const Real rest = (positions[b] - positions[a]).norm();
+      if (!(rest > 0))
+        throw Error(scene.path, cd.line,
+                    "cloth '" + cd.name + "': vertices " + std::to_string(springs.a[s]) + " and " +
+                        std::to_string(springs.b[s]) + " coincide (zero-length spring); expected distinct positions");
+      m.spring_a.push_back(a);
+      m.spring_b.push_back(b);
+      m.spring_rest.push_back(rest);
+      ke.push_back(cd.stiffness * kind_scale(cd, springs.kind[s]));
+      kd.push_back(cd.damping);
+      ++m.spring_kind_total[int(springs.kind[s])];
+    }
+    m.spring_count += springs.size();
+    info.spring_end = m.spring_count;
+    m.particle_count += mesh.vertex_count();
+    m.cloths.push_back(std::move(info));
+  }
+
+  m.spring_ke = ParamField::from_values(std::move(ke));
+  m.spring_kd = ParamField::from_values(std::move(kd));
+
+  // Vertices no triangle touches carry no mass: they stay where they are, like pins.
+  m.particle_inv_mass.resize(m.particle_count);
+  for (Index i = 0; i < m.particle_count; ++i) {
+    const bool fixed = pinned_flag[i] || !(mass[i] > 0);
+    m.particle_inv_mass[i] = fixed ? 0.0 : 1.0 / mass[i];
+    if (fixed) m.pinned.push_back(i);
+  }
+  if (m.needs_normals()) m.particle_area = std::move(area);
+
+  {
+    std::vector<Index> owner, entry;
+    owner.reserve(2 * std::size_t(m.spring_count));
+    entry.reserve(2 * std::size_t(m.spring_count));
+    for (Index s = 0; s < m.spring_count; ++s) {
+      owner.push_back(m.spring_a[s]); entry.push_back(s);
+      owner.push_back(m.spring_b[s]); entry.push_back(~s);
+    }
+    build_csr(m.particle_count, owner, entry, m.particle_spring_offset, m.particle_spring_index);
+  }
+  {
+    std::vector<Index> owner(m.tri_index.begin(), m.tri_index.end()), entry(m.tri_index.size());
+    for (std::size_t k = 0; k < entry.size(); ++k) entry[k] = Index(k / 3);
+    build_csr(m.particle_count, owner, entry, m.particle_tri_offset, m.particle_tri_index);
+  }
+
+  out.state = make_state(m, std::move(positions));
+  return out;
+}
+
+State make_state(const Model& model, std::vector<Vec3> positions) {
+  State s;
+  s.x = std::move(positions);
+  s.v.assign(model.particle_count, Vec3::Zero());
+  return s;
+}
+
+Workspace make_workspace(const Model& model) {
+  Workspace ws;
+  ws.f.assign(model.particle_count, Vec3::Zero());
+  if (model.spring_layout == SpringLayout::two_phase) ws.spring_force.assign(model.spring_count, Vec3::Zero());
+  if (model.integrator == Integrator::rk4) {
+    ws.stage_x.assign(model.particle_count, Vec3::Zero());
+    ws.stage_v.assign(model.particle_count, Vec3::Zero());
+  }
+  ws.normal.assign(model.particle_count, Vec3::Zero());
+  return ws;
+}
+
+}  // namespace clothsim

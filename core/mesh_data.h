@@ -1,0 +1,22 @@
+#pragma once
+// A triangle mesh as read from disk or generated: plain data, before it becomes cloth.
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+
+namespace clothsim {
+
+struct MeshData {
+  std::string source;            // file it came from ("" for a generated mesh), for error messages
+  std::vector<Vec3> positions;   // m (vertex_count)
+  std::vector<Vec2> uvs;         // texture coordinates (uv_count); may be empty
+  std::vector<Index> tri_index;  // vertex indices, counter-clockwise (3 * triangle_count)
+  std::vector<Index> tri_uv;     // uv indices per corner (3 * triangle_count), or empty without UVs
+  int polygons_triangulated = 0; // faces with more than 3 corners that were split into a fan
+
+  Index vertex_count() const { return static_cast<Index>(positions.size()); }
+  Index triangle_count() const { return static_cast<Index>(tri_index.size() / 3); }
+};
+
+}  // namespace clothsim

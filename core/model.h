@@ -1,0 +1,108 @@
+#pragma once
+// The immutable description of a simulation (Model), the only thing a step changes (State), and the
+// scratch sized once when the model is built (Workspace). All are structure-of-arrays: one contiguous
+// buffer per field, named <entity>_<attr>, with shape and units in a comment.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+#include "core/param_field.h"
+#include "core/scene_desc.h"
+
+namespace clothsim {
+
+enum class SpringKind : std::uint8_t { edge, bend, structural, shear, flex };
+inline constexpr int spring_kind_count = 5;
+inline constexpr std::array<const char*, spring_kind_count> spring_kind_names{
+    "edge", "bend", "structural", "shear", "flex"};
+
+// How spring forces are accumulated without floating-point races (docs/performance.md compares them).
+enum class SpringLayout {
+  gather,     // per particle over a CSR of incident springs: each spring computed twice
+  two_phase,  // each spring once into a per-spring buffer, then a per-particle gather of those
+};
+
+// What output and reporting need of one cloth; kept out of the arrays the kernels stream.
+struct ClothInfo {
+  std::string name;
+  std::string save_dir;      // absolute or relative to the working directory
+  std::string save_name;
+  std::string texture;       // colour texture path as written in the scene ("" for none)
+  Index particle_begin = 0, particle_end = 0;
+  Index tri_begin = 0, tri_end = 0;
+  Index spring_begin = 0, spring_end = 0;
+  std::vector<Vec2> uvs;     // texture coordinates (uv_count)
+  std::vector<Index> tri_uv; // uv index per corner, local to this cloth (3 * triangles), empty without UVs
+  Index pieces = 0;          // connected components
+  Real friction = 0, restitution = 0, thickness = 0;
+  bool self_collision = false;
+};
+
+struct Model {
+  // --- particles
+  Index particle_count = 0;
+  std::vector<Real> particle_inv_mass;  // 1/kg, 0 for pinned (particle_count)
+  std::vector<Real> particle_area;      // m^2 lumped area, only when wind is on (particle_count or 0)
+  std::vector<Index> pinned;            // indices of pinned particles (pinned count)
+
+  // --- springs
+  Index spring_count = 0;
+  std::vector<Index> spring_a;          // first particle (spring_count)
+  std::vector<Index> spring_b;          // second particle (spring_count)
+  std::vector<Real> spring_rest;        // rest length, m (spring_count)
+  ParamField spring_ke;                 // stiffness, N/m (spring_count, stride 0 when uniform)
+  ParamField spring_kd;                 // damping along the spring, N s/m (spring_count, stride 0 when uniform)
+  std::array<Index, spring_kind_count> spring_kind_total{};  // springs of each SpringKind
+  // incident springs of each particle: entry = spring index, ~index (negative) when the particle is spring_b
+  std::vector<Index> particle_spring_offset;  // (particle_count + 1)
+  std::vector<Index> particle_spring_index;   // (2 * spring_count)
+  SpringLayout spring_layout = SpringLayout::two_phase;
+
+  // --- triangles
+  Index tri_count = 0;
+  std::vector<Index> tri_index;               // (3 * tri_count)
+  std::vector<Index> particle_tri_offset;     // incident triangles of each particle (particle_count + 1)
+  std::vector<Index> particle_tri_index;      // (3 * tri_count)
+
+  // --- forces applied to every particle
+  Vec3 gravity{0, 0, 0};                // m/s^2, gravity + constant external acceleration
+  Vec3 wind_velocity{0, 0, 0};          // m/s
+  Real wind_strength = 0;               // kg/(m^2 s)
+  Real air_damping = 0;                 // 1/s
+  RandomForceDesc random;
+
+  // --- run settings
+  Integrator integrator = Integrator::symplectic;
+  Real dt = 0;                          // s, the step actually taken: 1/(fps * steps_per_frame)
+  int steps_per_frame = 1;
+  Real fps = 24;
+  int start_frame = 1, end_frame = 1;
+
+  std::vector<ClothInfo> cloths;
+
+  bool needs_normals() const { return wind_strength != 0; }
+};
+
+struct State {
+  std::vector<Vec3> x;  // positions, m (particle_count)
+  std::vector<Vec3> v;  // velocities, m/s (particle_count)
+  Real time = 0;        // s since the start frame
+  std::int64_t step = 0;  // steps taken since the start frame (seeds the random forces)
+};
+
+struct Workspace {
+  std::vector<Vec3> f;             // accumulated force, then acceleration (particle_count)
+  std::vector<Vec3> spring_force;  // force on spring_a, two_phase layout only (spring_count or 0)
+  std::vector<Vec3> stage_x, stage_v;  // RK4 stage state (particle_count, or 0 for other integrators)
+  std::vector<Vec3> normal;        // unit vertex normals for wind and output (particle_count)
+  int force_evaluations = 0;       // counted for the studies
+  double seconds_forces = 0, seconds_integrate = 0;
+};
+
+// Sizes the workspace for a model; nothing inside step allocates afterwards.
+Workspace make_workspace(const Model& model);
+// Rest state: the model's initial positions at rest.
+State make_state(const Model& model, std::vector<Vec3> positions);
+
+}  // namespace clothsim

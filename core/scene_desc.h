@@ -1,0 +1,77 @@
+#pragma once
+// A scene as written in the XML file: paths and numbers, no derived quantities.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+
+namespace clothsim {
+
+enum class Integrator { euler, symplectic, rk4 };
+
+struct SimulationDesc {
+  Real timestep = 0.001;       // s, requested; the step used divides a frame evenly (steps_per_frame)
+  Real fps = 24;               // frames per second of the output sequence
+  int start_frame = 1;         // frame written from the initial state
+  int end_frame = 48;          // last frame written
+  Integrator integrator = Integrator::symplectic;
+  Vec3 gravity{0, -9.81, 0};   // m/s^2
+  int collision_iterations = 2;
+};
+
+struct RandomForceDesc {
+  Real amplitude = 0;          // m/s^2, largest random acceleration per axis
+  std::uint64_t seed = 1;
+  std::array<bool, 6> allow{true, true, true, true, true, true};  // negX posX negY posY negZ posZ
+};
+
+struct ForcesDesc {
+  Vec3 external_acceleration{0, 0, 0};  // m/s^2, added to gravity
+  Vec3 wind_velocity{0, 0, 0};          // m/s
+  Real wind_strength = 0;               // kg/(m^2 s): force per unit area per unit normal relative speed
+  RandomForceDesc random;
+  Real air_damping = 0;                 // 1/s: acceleration -c v on every particle
+};
+
+struct TransformDesc {
+  Vec3 translate{0, 0, 0};  // m
+  Vec3 rotate{0, 0, 0};     // degrees about X, then Y, then Z
+  Vec3 scale{1, 1, 1};
+};
+
+struct ClothDesc {
+  std::string name;
+  int line = 0;               // line of the <cloth> element, for error messages
+  std::string obj;            // mesh path (resolved against the scene folder), or empty for a grid
+  int grid_nx = 0, grid_ny = 0;
+  Real grid_w = 1, grid_h = 1;
+  std::string save_dir = "out";
+  std::string save_name;
+  std::string texture;        // colour texture, passed through to the output
+  TransformDesc transform;
+  Real friction = 0.3;
+  Real restitution = 0;
+  bool self_collision = false;
+  Real density = 0.2;         // kg/m^2
+  Real stiffness = 1000;      // N/m per spring
+  Real shear_scale = 1;       // shear springs: stiffness * shear_scale (grids)
+  Real bend_scale = 1;        // bend/flex springs: stiffness * bend_scale
+  Real damping = 0.1;         // N s/m per spring, on the relative speed along it
+  Real thickness = 0.005;     // m
+  std::vector<Index> pins;    // vertex indices held fixed
+};
+
+struct SceneDesc {
+  std::string path;           // the scene file
+  std::string base_dir;       // folder relative paths are resolved against
+  SimulationDesc simulation;
+  ForcesDesc forces;
+  std::vector<ClothDesc> cloths;
+};
+
+// Steps per frame: ceil(1/(fps*timestep)) with a relative tolerance, so 1/(24*(1/240)) is 10, not 11.
+int steps_per_frame(const SimulationDesc& sim);
+
+}  // namespace clothsim

@@ -1,0 +1,94 @@
+#include "io/obj_writer.h"
+
+#include <charconv>
+#include <cstdio>
+
+#include "io/atomic_file.h"
+
+namespace clothsim::io {
+namespace {
+
+// Appends numbers with std::to_chars: locale-independent, shortest form at the given significant digits.
+class ObjText {
+ public:
+  explicit ObjText(std::size_t reserve) { s_.reserve(reserve); }
+  void tag(const char* t) { s_ += t; }
+  void number(double x, int digits) {
+    char buf[32];
+    auto r = std::to_chars(buf, buf + sizeof buf, x == 0 ? 0.0 : x, std::chars_format::general, digits);
+    s_ += ' ';
+    s_.append(buf, r.ptr);
+  }
+  void integer(long long i) {
+    char buf[24];
+    auto r = std::to_chars(buf, buf + sizeof buf, i);
+    s_.append(buf, r.ptr);
+  }
+  void raw(std::string_view t) { s_ += t; }
+  std::string take() { return std::move(s_); }
+
+ private:
+  std::string s_;
+};
+
+constexpr int position_digits = 9;
+constexpr int uv_digits = 9;
+constexpr int normal_digits = 7;
+
+}  // namespace
+
+std::string frame_path(const std::string& dir, const std::string& save_name, int frame) {
+  char num[16];
+  std::snprintf(num, sizeof num, "%04d", frame);
+  return (dir.empty() ? std::string(".") : dir) + "/" + save_name + "." + num + ".obj";
+}
+
+std::string format_frame(const Model& model, const ClothInfo& cloth, std::span<const Vec3> x,
+                         std::span<const Vec3> normal, int frame) {
+  const Index nv = cloth.particle_end - cloth.particle_begin;
+  const Index nt = cloth.tri_end - cloth.tri_begin;
+  ObjText out(std::size_t(nv) * 90 + std::size_t(nt) * 40 + 256);
+  out.raw("# clothsim frame ");
+  out.integer(frame);
+  out.raw("\no ");
+  out.raw(cloth.name.empty() ? std::string_view("cloth") : std::string_view(cloth.name));
+  out.raw("\n");
+  for (Index i = cloth.particle_begin; i < cloth.particle_end; ++i) {
+    out.tag("v");
+    for (int k = 0; k < 3; ++k) out.number(x[i][k], position_digits);
+    out.raw("\n");
+  }
+  for (const Vec2& uv : cloth.uvs) {
+    out.tag("vt");
+    out.number(uv[0], uv_digits);
+    out.number(uv[1], uv_digits);
+    out.raw("\n");
+  }
+  for (Index i = cloth.particle_begin; i < cloth.particle_end; ++i) {
+    out.tag("vn");
+    for (int k = 0; k < 3; ++k) out.number(normal[i][k], normal_digits);
+    out.raw("\n");
+  }
+  const bool uvs = !cloth.tri_uv.empty();
+  for (Index t = cloth.tri_begin; t < cloth.tri_end; ++t) {
+    out.tag("f");
+    for (int k = 0; k < 3; ++k) {
+      const long long v = model.tri_index[3 * std::size_t(t) + k] - cloth.particle_begin + 1;
+      out.raw(" ");
+      out.integer(v);
+      out.raw("/");
+      if (uvs) out.integer(cloth.tri_uv[3 * std::size_t(t - cloth.tri_begin) + k] + 1);
+      out.raw("/");
+      out.integer(v);
+    }
+    out.raw("\n");
+  }
+  return out.take();
+}
+
+void write_frame(const std::string& path, const Model& model, const ClothInfo& cloth, std::span<const Vec3> x,
+                 std::span<const Vec3> normal, int frame) {
+  write_file_atomic(path, format_frame(model, cloth, x, normal, frame));
+}
+
+}  // namespace clothsim::io

@@ -1,0 +1,307 @@
+#include "io/scene_xml.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <initializer_list>
+#include <pugixml.hpp>
+#include <set>
+#include <sstream>
+
+#include "core/error.h"
+#include "io/text_file.h"
+
+namespace clothsim::io {
+namespace {
+
+// Reads typed attributes of one element and reports every problem with the file and the element's line.
+class ElementReader {
+ public:
+  ElementReader(const std::string& file, const std::string& text, pugi::xml_node node,
+                std::initializer_list<const char*> allowed)
+      : file_(file), node_(node), line_(line_of(text, node.offset_debug())) {
+    const std::set<std::string> ok(allowed.begin(), allowed.end());
+    for (pugi::xml_attribute a : node.attributes())
+      if (!ok.count(a.name())) fail("unknown attribute '" + std::string(a.name()) + "'; expected one of: " + join(allowed));
+  }
+
+  static int line_of(const std::string& text, std::ptrdiff_t offset) {
+    if (offset < 0) return 0;
+    return 1 + int(std::count(text.begin(), text.begin() + std::min<std::size_t>(offset, text.size()), '\n'));
+  }
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error(file_, line_, "<" + std::string(node_.name()) + ">: " + what);
+  }
+  int line() const { return line_; }
+  bool has(const char* name) const { return bool(node_.attribute(name)); }
+
+  std::string text(const char* name, std::string fallback = "") const {
+    pugi::xml_attribute a = node_.attribute(name);
+    return a ? std::string(a.value()) : fallback;
+  }
+
+  Real number(const char* name, Real fallback, const char* expected = "a number") const {
+    pugi::xml_attribute a = node_.attribute(name);
+    if (!a) return fallback;
+    return parse_numbers(name, a.value(), 1, expected)[0];
+  }
+
+  Real positive(const char* name, Real fallback, const char* unit) const {
+    const std::string expected = std::string("a positive number (") + unit + ")";
+    const Real v = number(name, fallback, expected.c_str());
+    if (!(v > 0)) bad(name, expected);
+    return v;
+  }
+
+  Real non_negative(const char* name, Real fallback, const char* unit) const {
+    const std::string expected = std::string("a number >= 0 (") + unit + ")";
+    const Real v = number(name, fallback, expected.c_str());
+    if (!(v >= 0)) bad(name, expected);
+    return v;
+  }
+
+  int integer(const char* name, int fallback) const {
+    pugi::xml_attribute a = node_.attribute(name);
+    if (!a) return fallback;
+    const std::string s = trim(a.value());
+    int v = 0;
+    auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (s.empty() || ec != std::errc() || p != s.data() + s.size()) bad(name, "an integer");
+    return v;
+  }
+
+  Vec3 vec3(const char* name, const Vec3& fallback) const {
+    pugi::xml_attribute a = node_.attribute(name);
+    if (!a) return fallback;
+    const auto v = parse_numbers(name, a.value(), 3, "three numbers \"x y z\"");
+    return Vec3(v[0], v[1], v[2]);
+  }
+
+  bool boolean(const char* name, bool fallback) const {
+    pugi::xml_attribute a = node_.attribute(name);
+    if (!a) return fallback;
+    const std::string s = trim(a.value());
+    if (s == "true" || s == "1") return true;
+    if (s == "false" || s == "0") return false;
+    bad(name, "true or false");
+  }
+
+  std::vector<Real> numbers(const char* name, std::size_t count, const char* expected) const {
+    return parse_numbers(name, node_.attribute(name).value(), count, expected);
+  }
+
+  [[noreturn]] void bad(const char* name, const std::string& expected) const {
+    fail("attribute " + std::string(name) + "=\"" + node_.attribute(name).value() + "\"; expected " + expected);
+  }
+
+ private:
+  static std::string trim(const std::string& s) {
+    const auto b = s.find_first_not_of(" \t\r\n");
+    if (b == std::string::npos) return "";
+    return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
+  }
+  static std::string join(std::initializer_list<const char*> names) {
+    std::string s;
+    for (const char* n : names) s += (s.empty() ? "" : ", ") + std::string(n);
+    return s;
+  }
+  // `count` numbers separated by blanks (count 0: any number of them).
+  std::vector<Real> parse_numbers(const char* name, const char* value, std::size_t count, const char* expected) const {
+    std::vector<Real> out;
+    std::istringstream in(value);
+    std::string tok;
+    while (in >> tok) {
+      double v = 0;
+      const char* b = tok.data() + (tok[0] == '+' ? 1 : 0);
+      auto [p, ec] = std::from_chars(b, tok.data() + tok.size(), v);
+      if (ec != std::errc() || p != tok.data() + tok.size() || !std::isfinite(v)) bad(name, expected);
+      out.push_back(v);
+    }
+    if ((count > 0 && out.size() != count) || out.empty()) bad(name, expected);
+    return out;
+  }
+
+  const std::string& file_;
+  pugi::xml_node node_;
+  int line_;
+};
+
+std::string resolve(const std::string& base, const std::string& p) {
+  if (p.empty()) return p;
+  std::filesystem::path path(p);
+  return path.is_absolute() ? p : (std::filesystem::path(base) / path).lexically_normal().string();
+}
+
+void read_simulation(const std::string& file, const std::string& text, pugi::xml_node n, SimulationDesc& sim) {
+  ElementReader r(file, text, n,
+                  {"timestep", "fps", "startFrame", "endFrame", "integrator", "gravity", "collisionIterations"});
+  sim.timestep = r.positive("timestep", sim.timestep, "s");
+  sim.fps = r.positive("fps", sim.fps, "frames per second");
+  sim.start_frame = r.integer("startFrame", sim.start_frame);
+  sim.end_frame = r.integer("endFrame", sim.end_frame);
+  if (sim.start_frame < 0) r.bad("startFrame", "a frame number >= 0");
+  if (sim.start_frame > sim.end_frame)
+    r.fail("startFrame " + std::to_string(sim.start_frame) + " is after endFrame " + std::to_string(sim.end_frame) +
+           "; expected startFrame <= endFrame");
+  if (sim.end_frame > 9999) r.bad("endFrame", "a frame number <= 9999 (frames are named with 4 digits)");
+  const std::string integrator = r.text("integrator", "symplectic");
+  if (integrator == "euler") sim.integrator = Integrator::euler;
+  else if (integrator == "symplectic") sim.integrator = Integrator::symplectic;
+  else if (integrator == "rk4") sim.integrator = Integrator::rk4;
+  else r.bad("integrator", "one of euler, symplectic, rk4");
+  sim.gravity = r.vec3("gravity", sim.gravity);
+  sim.collision_iterations = r.integer("collisionIterations", sim.collision_iterations);
+  if (sim.collision_iterations < 0) r.bad("collisionIterations", "an integer >= 0");
+}
+
+void read_forces(const std::string& file, const std::string& text, pugi::xml_node n, ForcesDesc& f) {
+  ElementReader(file, text, n, {});
+  for (pugi::xml_node c : n.children()) {
+    if (c.type() != pugi::node_element) continue;
+    const std::string name = c.name();
+    if (name == "external") {
+      ElementReader r(file, text, c, {"acceleration"});
+      f.external_acceleration = r.vec3("acceleration", f.external_acceleration);
+    } else if (name == "wind") {
+      ElementReader r(file, text, c, {"velocity", "strength"});
+      f.wind_velocity = r.vec3("velocity", f.wind_velocity);
+      f.wind_strength = r.non_negative("strength", 1.0, "kg/(m^2 s)");
+    } else if (name == "random") {
+      ElementReader r(file, text, c, {"amplitude", "seed", "negX", "posX", "negY", "posY", "negZ", "posZ"});
+      f.random.amplitude = r.non_negative("amplitude", 0, "m/s^2");
+      const std::string seed = r.text("seed", "1");
+      std::uint64_t s = 0;
+      auto [p, ec] = std::from_chars(seed.data(), seed.data() + seed.size(), s);
+      if (seed.empty() || ec != std::errc() || p != seed.data() + seed.size()) r.bad("seed", "a non-negative integer");
+      f.random.seed = s;
+      const char* axes[6] = {"negX", "posX", "negY", "posY", "negZ", "posZ"};
+      for (int k = 0; k < 6; ++k) f.random.allow[k] = r.boolean(axes[k], true);
+    } else if (name == "airDamping") {
+      ElementReader r(file, text, c, {"value"});
+      f.air_damping = r.non_negative("value", 0, "1/s");
+    } else {
+      ElementReader(file, text, c, {}).fail("unknown element in <forces>; expected external, wind, random or airDamping");
+    }
+  }
+}
+
+void read_cloth(const std::string& file, const std::string& text, const std::string& base, pugi::xml_node n,
+                ClothDesc& c, int index) {
+  ElementReader r(file, text, n,
+                  {"name", "obj", "grid", "size", "saveDir", "saveName", "texture", "translate", "rotate", "scale",
+                   "friction", "restitution", "selfCollision"});
+  c.line = r.line();
+  c.name = r.text("name", "cloth" + std::to_string(index));
+  if (r.has("obj") == r.has("grid")) r.fail("expected exactly one of obj=\"mesh.obj\" or grid=\"NX NY\"");
+  if (r.has("obj")) {
+    c.obj = resolve(base, r.text("obj"));
+    if (r.has("size")) r.fail("size applies to grid cloths only; use scale for an OBJ");
+  } else {
+    const auto g = r.numbers("grid", 2, "two integers \"NX NY\", each >= 2");
+    if (g[0] != std::floor(g[0]) || g[1] != std::floor(g[1]) || g[0] < 2 || g[1] < 2 || g[0] * g[1] > 1e8)
+      r.bad("grid", "two integers \"NX NY\", each >= 2");
+    c.grid_nx = int(g[0]);
+    c.grid_ny = int(g[1]);
+    if (r.has("size")) {
+      const auto s = r.numbers("size", 2, "two positive numbers \"W H\" (m)");
+      if (!(s[0] > 0 && s[1] > 0)) r.bad("size", "two positive numbers \"W H\" (m)");
+      c.grid_w = s[0];
+      c.grid_h = s[1];
+    }
+  }
+  c.save_dir = resolve(base, r.text("saveDir", "out"));
+  c.save_name = r.text("saveName", c.name);
+  if (c.save_name.empty() || c.save_name.find('/') != std::string::npos)
+    r.bad("saveName", "a file name without '/'");
+  c.texture = r.text("texture");
+  c.transform.translate = r.vec3("translate", c.transform.translate);
+  c.transform.rotate = r.vec3("rotate", c.transform.rotate);
+  if (r.has("scale")) {
+    const auto s = r.numbers("scale", 0, "one non-zero number or three \"sx sy sz\"");
+    if (s.size() != 1 && s.size() != 3) r.bad("scale", "one non-zero number or three \"sx sy sz\"");
+    c.transform.scale = s.size() == 1 ? Vec3(s[0], s[0], s[0]) : Vec3(s[0], s[1], s[2]);
+    if (c.transform.scale.cwiseAbs().minCoeff() == 0) r.bad("scale", "one non-zero number or three \"sx sy sz\"");
+  }
+  c.friction = r.non_negative("friction", c.friction, "Coulomb coefficient");
+  c.restitution = r.non_negative("restitution", c.restitution, "0..1");
+  if (c.restitution > 1) r.bad("restitution", "a number in [0, 1]");
+  c.self_collision = r.boolean("selfCollision", c.self_collision);
+
+  for (pugi::xml_node p : n.children()) {
+    if (p.type() != pugi::node_element) continue;
+    const std::string name = p.name();
+    if (name == "density") {
+      c.density = ElementReader(file, text, p, {"value"}).positive("value", c.density, "kg/m^2");
+    } else if (name == "stiffness") {
+      ElementReader s(file, text, p, {"value", "shear", "bend"});
+      c.stiffness = s.non_negative("value", c.stiffness, "N/m");
+      c.shear_scale = s.non_negative("shear", c.shear_scale, "factor of value");
+      c.bend_scale = s.non_negative("bend", c.bend_scale, "factor of value");
+    } else if (name == "damping") {
+      c.damping = ElementReader(file, text, p, {"value"}).non_negative("value", c.damping, "N s/m");
+    } else if (name == "thickness") {
+      c.thickness = ElementReader(file, text, p, {"value"}).positive("value", c.thickness, "m");
+    } else if (name == "pins") {
+      ElementReader s(file, text, p, {"vertices"});
+      std::istringstream in(s.text("vertices"));
+      std::string tok;
+      while (in >> tok) {
+        Index v = -1;
+        auto [q, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+        if (ec != std::errc() || q != tok.data() + tok.size() || v < 0)
+          s.bad("vertices", "vertex indices (integers >= 0, counted from 0)");
+        c.pins.push_back(v);
+      }
+    } else {
+      ElementReader(file, text, p, {}).fail(
+          "unknown element in <cloth>; expected density, stiffness, damping, thickness or pins");
+    }
+  }
+}
+
+}  // namespace
+
+SceneDesc read_scene(const std::string& path) {
+  const std::string text = read_text_file(path, "a scene XML file");
+  pugi::xml_document doc;
+  const pugi::xml_parse_result res = doc.load_buffer(text.data(), text.size(), pugi::parse_default);
+  if (!res)
+    throw Error(path, ElementReader::line_of(text, res.offset),
+                std::string("malformed XML (") + res.description() + "); expected a <scene> document");
+  pugi::xml_node root = doc.document_element();
+  if (std::string(root.name()) != "scene")
+    ElementReader(path, text, root, {}).fail("unknown root element; expected <scene>");
+
+  SceneDesc scene;
+  scene.path = path;
+  scene.base_dir = std::filesystem::path(path).parent_path().string();
+  ElementReader(path, text, root, {});
+  bool have_simulation = false;
+  for (pugi::xml_node n : root.children()) {
+    if (n.type() != pugi::node_element) continue;
+    const std::string name = n.name();
+    if (name == "simulation") {
+      if (have_simulation) ElementReader(path, text, n, {}).fail("appears twice; expected one <simulation>");
+      have_simulation = true;
+      read_simulation(path, text, n, scene.simulation);
+    } else if (name == "forces") {
+      read_forces(path, text, n, scene.forces);
+    } else if (name == "cloth") {
+      scene.cloths.emplace_back();
+      read_cloth(path, text, scene.base_dir, n, scene.cloths.back(), int(scene.cloths.size()) - 1);
+    } else {
+      ElementReader(path, text, n, {}).fail("unknown element in <scene>; expected simulation, forces or cloth");
+    }
+  }
+  if (scene.cloths.empty()) throw Error(path, "no <cloth> element; expected at least one cloth");
+  std::set<std::string> outputs;
+  for (const ClothDesc& c : scene.cloths)
+    if (!outputs.insert(c.save_dir + "/" + c.save_name).second)
+      throw Error(path, c.line, "cloth '" + c.name + "' writes to the same files as another (saveDir + saveName); "
+                                "expected distinct output names");
+  return scene;
+}
+
+}  // namespace clothsim::io

@@ -1,0 +1,13 @@
+#pragma once
+#include <string>
+
+#include "core/scene_desc.h"
+
+namespace clothsim::io {
+
+// Reads a scene file (pugixml) into a SceneDesc; relative paths become paths relative to the scene's folder.
+// Strict: an unknown element or attribute (a typo), a malformed or out-of-range value, or a missing required
+// one throws Error with the file, the line and what was expected. docs/scene-format.md describes the format.
+SceneDesc read_scene(const std::string& path);
+
+}  // namespace clothsim::io

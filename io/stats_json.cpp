@@ -1,0 +1,43 @@
+#include "io/stats_json.h"
+
+#include "io/atomic_file.h"
+#include "io/json_writer.h"
+
+namespace clothsim::io {
+
+std::string format_stats(const Model& m, const RunStats& s) {
+  JsonWriter j;
+  j.begin_object();
+  j.field("scene", std::string_view(s.scene)).field("status", std::string_view(s.status));
+  j.field("particles", m.particle_count).field("triangles", m.tri_count);
+  j.key("springs").begin_object();
+  for (int k = 0; k < spring_kind_count; ++k) j.field(spring_kind_names[k], m.spring_kind_total[k]);
+  j.field("total", m.spring_count).end_object();
+  Index pieces = 0;
+  for (const ClothInfo& c : m.cloths) pieces += c.pieces;
+  j.field("pieces", pieces).field("cloths", int(m.cloths.size())).field("pinned", int(m.pinned.size()));
+  const char* integrators[] = {"euler", "symplectic", "rk4"};
+  j.field("integrator", std::string_view(integrators[int(m.integrator)]));
+  j.field("dt", m.dt).field("steps_per_frame", m.steps_per_frame).field("steps", s.steps);
+  j.field("force_evaluations", s.force_evaluations).field("threads", s.threads);
+  j.field("frames_written", s.frames_written).field("wall_seconds", s.wall_seconds);
+  j.key("phases").begin_object()
+      .field("load", s.load_seconds)
+      .field("topology", s.topology_seconds)
+      .field("forces", s.forces_seconds)
+      .field("integrate", s.integrate_seconds)
+      .field("write", s.write_seconds)
+      .end_object();
+  j.field("peak_rss_bytes", s.peak_rss_bytes);
+  j.key("frames").begin_array();
+  for (const FrameStats& f : s.frames)
+    j.begin_object().field("frame", f.frame).field("max_strain", f.max_strain).field("kinetic_energy", f.kinetic_energy).end_object();
+  j.end_array().end_object();
+  return j.str() + "\n";
+}
+
+void write_stats(const std::string& path, const Model& model, const RunStats& stats) {
+  write_file_atomic(path, format_stats(model, stats));
+}
+
+}  // namespace clothsim::io

@@ -1,0 +1,32 @@
+#pragma once
+// The --stats file of `clothsim run`: counts, timings by phase, peak memory and per-frame diagnostics.
+#include <string>
+#include <vector>
+
+#include "core/model.h"
+
+namespace clothsim::io {
+
+struct FrameStats {
+  int frame = 0;
+  Real max_strain = 0;      // largest (|d| - rest)/rest over all springs
+  Real kinetic_energy = 0;  // J
+};
+
+struct RunStats {
+  std::string scene;
+  int threads = 0;
+  long long steps = 0;
+  int frames_written = 0;
+  double wall_seconds = 0;
+  double load_seconds = 0, topology_seconds = 0, forces_seconds = 0, integrate_seconds = 0, write_seconds = 0;
+  long long force_evaluations = 0;
+  long long peak_rss_bytes = 0;
+  std::string status = "ok";  // ok | diverged
+  std::vector<FrameStats> frames;
+};
+
+std::string format_stats(const Model& model, const RunStats& stats);
+void write_stats(const std::string& path, const Model& model, const RunStats& stats);
+
+}  // namespace clothsim::io

@@ -1,0 +1,46 @@
+// clothsim: the command-line front end. Errors from input are caught here, once, and become exit code 2.
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <string>
+
+#include "core/error.h"
+#include "tools/cli_args.h"
+#include "tools/commands.h"
+
+namespace {
+
+const char* usage =
+    "usage: clothsim <command> [options]\n"
+    "commands:\n"
+    "  run SCENE.xml       simulate and write one OBJ per frame\n"
+    "  validate SCENE.xml  check a scene without simulating\n"
+    "  info MESH.obj       mesh and spring counts, topology checks\n"
+    "Run 'clothsim <command> --help' for the options of a command.\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace clothsim::cli;
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
+    std::fputs(usage, argc < 2 ? stderr : stdout);
+    return argc < 2 ? exit_bad_input : exit_ok;
+  }
+  const std::string command = argv[1];
+  try {
+    if (command == "run") return cmd_run(argc - 2, argv + 2);
+    if (command == "validate") return cmd_validate(argc - 2, argv + 2);
+    if (command == "info") return cmd_info(argc - 2, argv + 2);
+    std::fprintf(stderr, "clothsim: unknown command '%s'\n%s", command.c_str(), usage);
+    return exit_bad_input;
+  } catch (const clothsim::Error& e) {
+    std::fprintf(stderr, "clothsim: error: %s\n", e.what());
+    return exit_bad_input;
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "clothsim %s: %s (see 'clothsim %s --help')\n", command.c_str(), e.what(), command.c_str());
+    return exit_bad_input;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "clothsim: error: out of memory\n");
+    return exit_bad_input;
+  }
+}

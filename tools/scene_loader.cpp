@@ -1,0 +1,24 @@
+#include "tools/scene_loader.h"
+
+#include <chrono>
+
+#include "io/obj_reader.h"
+#include "io/scene_xml.h"
+
+namespace clothsim::cli {
+
+LoadedScene load_scene(const std::string& path) {
+  using clock = std::chrono::steady_clock;
+  LoadedScene s;
+  const auto t0 = clock::now();
+  s.desc = io::read_scene(path);
+  std::vector<MeshData> meshes;
+  for (const ClothDesc& c : s.desc.cloths) meshes.push_back(c.obj.empty() ? make_cloth_grid(c) : io::read_obj(c.obj));
+  const auto t1 = clock::now();
+  s.built = build_model(s.desc, meshes);
+  s.load_seconds = std::chrono::duration<double>(t1 - t0).count();
+  s.topology_seconds = std::chrono::duration<double>(clock::now() - t1).count();
+  return s;
+}
+
+}  // namespace clothsim::cli

@@ -1,0 +1,19 @@
+#pragma once
+// Scene file -> meshes -> Model, timed by phase; shared by `run` and `validate`.
+#include <string>
+
+#include "core/build_model.h"
+#include "core/scene_desc.h"
+
+namespace clothsim::cli {
+
+struct LoadedScene {
+  SceneDesc desc;
+  BuiltScene built;
+  double load_seconds = 0;      // reading the scene and the meshes
+  double topology_seconds = 0;  // edges, bend springs, CSR, masses
+};
+
+LoadedScene load_scene(const std::string& path);
+
+}  // namespace clothsim::cli
