@@ -74,6 +74,7 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
   std::vector<Real> mass, area;
   std::vector<Real> ke, kd;
   std::vector<char> pinned_flag;
+  std::vector<Real> thickness;
 
   for (std::size_t c = 0; c < scene.cloths.size(); ++c) {
     const ClothDesc& cd = scene.cloths[c];
@@ -99,6 +100,7 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
     mass.resize(positions.size(), 0.0);
     area.resize(positions.size(), 0.0);
     pinned_flag.resize(positions.size(), 0);
+    thickness.resize(positions.size(), cd.thickness);
 
     // Mass from areal density lumped to the corners by area (a third each), so refining keeps the total.
     for (Index t = 0; t < mesh.triangle_count(); ++t) {
@@ -145,6 +147,7 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
 
   m.spring_ke = ParamField::from_values(std::move(ke));
   m.spring_kd = ParamField::from_values(std::move(kd));
+  m.particle_thickness = ParamField::from_values(std::move(thickness));
 
   // Vertices no triangle touches carry no mass: they stay where they are, like pins.
   m.particle_inv_mass.resize(m.particle_count);

@@ -45,6 +45,7 @@ struct Model {
   std::vector<Real> particle_inv_mass;  // 1/kg, 0 for pinned (particle_count)
   std::vector<Real> particle_area;      // m^2 lumped area, only when wind is on (particle_count or 0)
   std::vector<Index> pinned;            // indices of pinned particles (pinned count)
+  ParamField particle_thickness;        // collision thickness, m (particle_count, stride 0 when uniform)
 
   // --- springs
   Index spring_count = 0;
