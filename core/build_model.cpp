@@ -1,6 +1,7 @@
 #include "core/build_model.h"
 
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "core/error.h"
@@ -69,12 +70,16 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
   m.wind_strength = scene.forces.wind_strength;
   m.air_damping = scene.forces.air_damping;
   m.random = scene.forces.random;
+  m.cg_tolerance = sim.cg_tolerance;
+  m.cg_max_iterations = sim.cg_max_iterations;
+  m.newton_iterations = sim.newton_iterations;
 
   std::vector<Vec3> positions;
   std::vector<Real> mass, area;
   std::vector<Real> ke, kd;
   std::vector<char> pinned_flag;
   std::vector<Real> thickness;
+  std::vector<Real> max_strain;
 
   for (std::size_t c = 0; c < scene.cloths.size(); ++c) {
     const ClothDesc& cd = scene.cloths[c];
@@ -137,6 +142,8 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
       m.spring_rest.push_back(rest);
       ke.push_back(cd.stiffness * kind_scale(cd, springs.kind[s]));
       kd.push_back(cd.damping);
+      max_strain.push_back(cd.max_strain > 0 ? cd.max_strain : std::numeric_limits<Real>::infinity());
+      m.strain_limited = m.strain_limited || cd.max_strain > 0;
       ++m.spring_kind_total[int(springs.kind[s])];
     }
     m.spring_count += springs.size();
@@ -148,6 +155,7 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
   m.spring_ke = ParamField::from_values(std::move(ke));
   m.spring_kd = ParamField::from_values(std::move(kd));
   m.particle_thickness = ParamField::from_values(std::move(thickness));
+  if (m.strain_limited) m.spring_max_strain = ParamField::from_values(std::move(max_strain));
 
   // Vertices no triangle touches carry no mass: they stay where they are, like pins.
   m.particle_inv_mass.resize(m.particle_count);
@@ -194,6 +202,16 @@ Workspace make_workspace(const Model& model) {
     ws.stage_v.assign(model.particle_count, Vec3::Zero());
   }
   ws.normal.assign(model.particle_count, Vec3::Zero());
+  if (model.integrator == Integrator::implicit) {
+    for (auto* buf : {&ws.dv, &ws.cg_x, &ws.cg_r, &ws.cg_p, &ws.cg_q, &ws.cg_z})
+      buf->assign(model.particle_count, Vec3::Zero());
+    ws.cg_diag.assign(model.particle_count, Mat3::Zero());
+    ws.cg_precond.assign(model.particle_count, Mat3::Zero());
+    ws.spring_block.assign(model.spring_count, Mat3::Zero());
+    ws.spring_vec.assign(model.spring_count, Vec3::Zero());
+    ws.solve_log.reserve(std::size_t(model.steps_per_frame));
+  }
+  if (model.strain_limited) ws.strain_correction.assign(model.spring_count, Vec3::Zero());
   return ws;
 }
 

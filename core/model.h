@@ -55,6 +55,9 @@ struct Model {
   ParamField spring_ke;                 // stiffness, N/m (spring_count, stride 0 when uniform)
   ParamField spring_kd;                 // damping along the spring, N s/m (spring_count, stride 0 when uniform)
   std::array<Index, spring_kind_count> spring_kind_total{};  // springs of each SpringKind
+  // largest allowed strain (|d| - rest)/rest, +inf where unlimited; only read when strain_limited
+  ParamField spring_max_strain;         // (spring_count, stride 0 when uniform)
+  bool strain_limited = false;          // some cloth sets maxStrain: the strain-limit stage runs
   // incident springs of each particle: entry = spring index, ~index (negative) when the particle is spring_b
   std::vector<Index> particle_spring_offset;  // (particle_count + 1)
   std::vector<Index> particle_spring_index;   // (2 * spring_count)
@@ -79,6 +82,9 @@ struct Model {
   int steps_per_frame = 1;
   Real fps = 24;
   int start_frame = 1, end_frame = 1;
+  Real cg_tolerance = 1e-6;             // implicit: relative CG residual |r|/|b| to stop at
+  int cg_max_iterations = 1000;         // implicit: CG iteration cap per linear solve
+  int newton_iterations = 1;            // implicit: linear solves per step
 
   std::vector<ClothInfo> cloths;
 
@@ -97,6 +103,21 @@ struct Workspace {
   std::vector<Vec3> spring_force;  // force on spring_a, two_phase layout only (spring_count or 0)
   std::vector<Vec3> stage_x, stage_v;  // RK4 stage state (particle_count, or 0 for other integrators)
   std::vector<Vec3> normal;        // unit vertex normals for wind and output (particle_count)
+  // implicit integrator scratch (particle_count / spring_count, or 0 for other integrators)
+  std::vector<Vec3> dv, cg_x, cg_r, cg_p, cg_q, cg_z;  // velocity change; CG solution, residual, search, A p, P r
+  std::vector<Mat3> cg_diag;       // per-particle block of M - h df/dv outside the springs (particle_count)
+  std::vector<Mat3> cg_precond;    // inverse of the system's diagonal block, 0 for pinned (particle_count)
+  std::vector<Mat3> spring_block;  // h kd n n^T + h^2 dfa/dxb of each spring (spring_count)
+  std::vector<Vec3> spring_vec;    // per-spring right-hand-side term (spring_count)
+  struct SolveRecord {
+    int cg_iterations = 0;         // summed over the Newton iterations of the step
+    Real cg_residual = 0;          // |r|/|b| at the end of the last solve
+  };
+  std::vector<SolveRecord> solve_log;  // one per step; capacity steps_per_frame, the caller clears it
+  long long cg_iterations_total = 0;
+  // strain-limit scratch (Provot 1995 §5), sized only when strain_limited
+  std::vector<Vec3> strain_correction;  // per-spring position correction of spring_a (spring_count)
+  int strain_iterations_total = 0;
   int force_evaluations = 0;       // counted for the studies
   double seconds_forces = 0, seconds_integrate = 0;
 };

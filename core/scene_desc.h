@@ -9,7 +9,7 @@
 
 namespace clothsim {
 
-enum class Integrator { euler, symplectic, rk4 };
+enum class Integrator { euler, symplectic, rk4, implicit };
 
 struct SimulationDesc {
   Real timestep = 0.001;       // s, requested; the step used divides a frame evenly (steps_per_frame)
@@ -19,6 +19,11 @@ struct SimulationDesc {
   Integrator integrator = Integrator::symplectic;
   Vec3 gravity{0, -9.81, 0};   // m/s^2
   int collision_iterations = 2;
+  // implicit integrator (Baraff & Witkin 1998): CG stops at |r| <= cg_tolerance |b| or after cg_max_iterations;
+  // newton_iterations linear solves per step (1 = Baraff & Witkin's single linearised solve)
+  Real cg_tolerance = 1e-6;
+  int cg_max_iterations = 1000;
+  int newton_iterations = 1;
 };
 
 struct RandomForceDesc {
@@ -61,6 +66,7 @@ struct ClothDesc {
   Real damping = 0.1;         // N s/m per spring, on the relative speed along it
   Real thickness = 0.005;     // m
   std::vector<Index> pins;    // vertex indices held fixed
+  Real max_strain = 0;        // Provot 1995 strain limit (|d| - rest)/rest, 0 for none
 };
 
 struct SceneDesc {

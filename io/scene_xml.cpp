@@ -136,7 +136,8 @@ std::string resolve(const std::string& base, const std::string& p) {
 
 void read_simulation(const std::string& file, const std::string& text, pugi::xml_node n, SimulationDesc& sim) {
   ElementReader r(file, text, n,
-                  {"timestep", "fps", "startFrame", "endFrame", "integrator", "gravity", "collisionIterations"});
+                  {"timestep", "fps", "startFrame", "endFrame", "integrator", "gravity", "collisionIterations",
+                   "cgTolerance", "cgMaxIterations", "newtonIterations"});
   sim.timestep = r.positive("timestep", sim.timestep, "s");
   sim.fps = r.positive("fps", sim.fps, "frames per second");
   sim.start_frame = r.integer("startFrame", sim.start_frame);
@@ -150,10 +151,17 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
   if (integrator == "euler") sim.integrator = Integrator::euler;
   else if (integrator == "symplectic") sim.integrator = Integrator::symplectic;
   else if (integrator == "rk4") sim.integrator = Integrator::rk4;
-  else r.bad("integrator", "one of euler, symplectic, rk4");
+  else if (integrator == "implicit") sim.integrator = Integrator::implicit;
+  else r.bad("integrator", "one of euler, symplectic, rk4, implicit");
   sim.gravity = r.vec3("gravity", sim.gravity);
   sim.collision_iterations = r.integer("collisionIterations", sim.collision_iterations);
   if (sim.collision_iterations < 0) r.bad("collisionIterations", "an integer >= 0");
+  sim.cg_tolerance = r.positive("cgTolerance", sim.cg_tolerance, "relative CG residual");
+  if (sim.cg_tolerance >= 1) r.bad("cgTolerance", "a number in (0, 1) (relative CG residual)");
+  sim.cg_max_iterations = r.integer("cgMaxIterations", sim.cg_max_iterations);
+  if (sim.cg_max_iterations < 1) r.bad("cgMaxIterations", "an integer >= 1");
+  sim.newton_iterations = r.integer("newtonIterations", sim.newton_iterations);
+  if (sim.newton_iterations < 1) r.bad("newtonIterations", "an integer >= 1");
 }
 
 void read_forces(const std::string& file, const std::string& text, pugi::xml_node n, ForcesDesc& f) {
@@ -191,7 +199,7 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
                 ClothDesc& c, int index) {
   ElementReader r(file, text, n,
                   {"name", "obj", "grid", "size", "saveDir", "saveName", "texture", "translate", "rotate", "scale",
-                   "friction", "restitution", "selfCollision"});
+                   "friction", "restitution", "selfCollision", "maxStrain"});
   c.line = r.line();
   c.name = r.text("name", "cloth" + std::to_string(index));
   if (r.has("obj") == r.has("grid")) r.fail("expected exactly one of obj=\"mesh.obj\" or grid=\"NX NY\"");
@@ -228,6 +236,7 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
   c.restitution = r.non_negative("restitution", c.restitution, "0..1");
   if (c.restitution > 1) r.bad("restitution", "a number in [0, 1]");
   c.self_collision = r.boolean("selfCollision", c.self_collision);
+  if (r.has("maxStrain")) c.max_strain = r.positive("maxStrain", 0, "largest strain (|d| - rest)/rest, e.g. 0.1");
 
   for (pugi::xml_node p : n.children()) {
     if (p.type() != pugi::node_element) continue;

@@ -16,10 +16,12 @@ std::string format_stats(const Model& m, const RunStats& s) {
   Index pieces = 0;
   for (const ClothInfo& c : m.cloths) pieces += c.pieces;
   j.field("pieces", pieces).field("cloths", int(m.cloths.size())).field("pinned", int(m.pinned.size()));
-  const char* integrators[] = {"euler", "symplectic", "rk4"};
+  const char* integrators[] = {"euler", "symplectic", "rk4", "implicit"};
   j.field("integrator", std::string_view(integrators[int(m.integrator)]));
   j.field("dt", m.dt).field("steps_per_frame", m.steps_per_frame).field("steps", s.steps);
   j.field("force_evaluations", s.force_evaluations).field("threads", s.threads);
+  if (m.integrator == Integrator::implicit) j.field("cg_iterations", s.cg_iterations);
+  if (m.strain_limited) j.field("strain_limit_iterations", s.strain_limit_iterations);
   j.field("frames_written", s.frames_written).field("wall_seconds", s.wall_seconds);
   j.key("phases").begin_object()
       .field("load", s.load_seconds)
@@ -30,8 +32,17 @@ std::string format_stats(const Model& m, const RunStats& s) {
       .end_object();
   j.field("peak_rss_bytes", s.peak_rss_bytes);
   j.key("frames").begin_array();
-  for (const FrameStats& f : s.frames)
-    j.begin_object().field("frame", f.frame).field("max_strain", f.max_strain).field("kinetic_energy", f.kinetic_energy).end_object();
+  for (const FrameStats& f : s.frames) {
+    j.begin_object().field("frame", f.frame).field("max_strain", f.max_strain).field("kinetic_energy", f.kinetic_energy);
+    if (m.integrator == Integrator::implicit) {
+      j.key("cg_iterations").begin_array();
+      for (int it : f.cg_iterations) j.value(it);
+      j.end_array().key("cg_residual").begin_array();
+      for (Real r : f.cg_residual) j.value(r);
+      j.end_array();
+    }
+    j.end_object();
+  }
   j.end_array().end_object();
   return j.str() + "\n";
 }

@@ -11,6 +11,8 @@ struct FrameStats {
   int frame = 0;
   Real max_strain = 0;      // largest (|d| - rest)/rest over all springs
   Real kinetic_energy = 0;  // J
+  std::vector<int> cg_iterations;  // implicit: CG iterations of each step of the frame (empty otherwise)
+  std::vector<Real> cg_residual;   // implicit: final relative CG residual |r|/|b| of each step
 };
 
 struct RunStats {
@@ -21,6 +23,8 @@ struct RunStats {
   double wall_seconds = 0;
   double load_seconds = 0, topology_seconds = 0, forces_seconds = 0, integrate_seconds = 0, write_seconds = 0;
   long long force_evaluations = 0;
+  long long cg_iterations = 0;            // implicit: over the whole run
+  long long strain_limit_iterations = 0;  // strain-limit Jacobi sweeps over the whole run
   long long peak_rss_bytes = 0;
   std::string status = "ok";  // ok | diverged
   std::vector<FrameStats> frames;

@@ -5,7 +5,9 @@
 
 #include "systems/forces.h"
 #include "systems/integrate_explicit.h"
+#include "systems/integrate_implicit.h"
 #include "systems/integrate_rk4.h"
+#include "systems/strain_limit.h"
 
 namespace clothsim {
 
@@ -24,7 +26,11 @@ void step(const Model& model, const State& in, State& out, Workspace& ws, Real h
     case Integrator::rk4:
       integrate_rk4(model, in, out, ws, h);
       break;
+    case Integrator::implicit:
+      integrate_implicit(model, in, out, ws, h);
+      break;
   }
+  if (model.strain_limited) apply_strain_limit(model, out, ws, h);
   out.time = in.time + h;
   out.step = in.step + 1;
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

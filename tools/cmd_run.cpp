@@ -16,11 +16,13 @@
 #include "systems/diagnostics.h"
 #include "systems/normals.h"
 #include "systems/spring_forces.h"
+#include "systems/stability.h"
 #include "systems/step.h"
 #include "tools/cli_args.h"
 #include "tools/commands.h"
 #include "tools/progress.h"
 #include "tools/scene_loader.h"
+#include "tools/step_advice.h"
 
 namespace clothsim::cli {
 namespace {
@@ -32,7 +34,8 @@ const char* run_help =
     "  --frames A:B       write frames A..B only (simulation still starts at the scene's startFrame)\n"
     "  --stats FILE.json  counts, timings by phase, peak memory, per-frame strain and kinetic energy\n"
     "  --quiet            no progress on stderr\n"
-    "Exit codes: 0 done, 2 bad input (file, line and what was expected on stderr), 3 diverged.";
+    "Exit codes: 0 done, 2 bad input (file, line and what was expected on stderr), 3 diverged (non-finite\n"
+    "values, or the mechanical energy rose past the bound of docs/stability.md; no such frame is written).";
 
 struct FrameRange {
   int first, last;
@@ -91,19 +94,40 @@ int cmd_run(int argc, char** argv) {
   stats.topology_seconds = loaded.topology_seconds;
   Progress progress(frames.last - frames.first + 1, args.has("--quiet"));
   int status = exit_ok;
+  // Divergence guard (docs/stability.md): every frame is checked before it is written.
+  const std::vector<Vec3> x_start = state.x;
+  const Real energy_start = mechanical_energy(model, state, x_start);
+  const Real energy_bound = energy_rise_bound(model, x_start);
 
   for (int frame = model.start_frame; frame <= frames.last; ++frame) {
+    ws.solve_log.clear();
     if (frame > model.start_frame) step_frame(model, state, scratch, ws);
-    if (!state_is_finite(state)) {
+    const bool finite = state_is_finite(state);
+    const Real energy_rise = finite ? mechanical_energy(model, state, x_start) - energy_start : 0;
+    if (!finite || !(energy_rise <= energy_bound)) {
+      char reason[160];
+      if (finite)
+        std::snprintf(reason, sizeof reason, "the mechanical energy rose by %.3g J, past the bound %.3g J",
+                      energy_rise, energy_bound);
+      else
+        std::snprintf(reason, sizeof reason, "non-finite positions or velocities");
+      const std::string remedy = step_remedy(model, scene_stable_steps(model, x_start));
       std::fprintf(stderr,
-                   "\nclothsim: error: frame %d, step %lld: the simulation diverged (non-finite positions or "
-                   "velocities); no frame from here on was written. Try a time step below %.3g s.\n",
-                   frame, static_cast<long long>(state.step), model.dt / 4);
+                   "\nclothsim: error: frame %d, step %lld: the simulation diverged (%s); no frame from here on "
+                   "was written. The step was %.3g s: %s.\n",
+                   frame, static_cast<long long>(state.step), reason, model.dt, remedy.c_str());
       stats.status = "diverged";
       status = exit_diverged;
       break;
     }
-    stats.frames.push_back({frame, max_spring_strain(model, state.x), kinetic_energy(model, state.v)});
+    io::FrameStats& fs = stats.frames.emplace_back();
+    fs.frame = frame;
+    fs.max_strain = max_spring_strain(model, state.x);
+    fs.kinetic_energy = kinetic_energy(model, state.v);
+    for (const Workspace::SolveRecord& r : ws.solve_log) {
+      fs.cg_iterations.push_back(r.cg_iterations);
+      fs.cg_residual.push_back(r.cg_residual);
+    }
     if (frame < frames.first) continue;
     const auto w0 = std::chrono::steady_clock::now();
     eval_normals(model, state.x, ws.normal);
@@ -119,6 +143,8 @@ int cmd_run(int argc, char** argv) {
 
   stats.steps = state.step;
   stats.force_evaluations = ws.force_evaluations;
+  stats.cg_iterations = ws.cg_iterations_total;
+  stats.strain_limit_iterations = ws.strain_iterations_total;
   stats.forces_seconds = ws.seconds_forces;
   stats.integrate_seconds = ws.seconds_integrate;
   stats.peak_rss_bytes = peak_rss_bytes();

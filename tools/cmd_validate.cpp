@@ -4,6 +4,7 @@
 #include "tools/cli_args.h"
 #include "tools/commands.h"
 #include "tools/scene_loader.h"
+#include "tools/step_advice.h"
 
 namespace clothsim::cli {
 
@@ -22,6 +23,12 @@ int cmd_validate(int argc, char** argv) {
               m.spring_count, m.tri_count, m.pinned.size());
   std::printf("  frames %d..%d at %g fps, %d steps per frame of %.6g s\n", m.start_frame, m.end_frame, m.fps,
               m.steps_per_frame, m.dt);
+  // Stability limits of undamped springs (docs/stability.md): power iteration on M^-1 K at rest.
+  const StableSteps limits = scene_stable_steps(m, s.built.state.x);
+  std::printf("  omega_max %.6g rad/s; largest stable step: symplectic %.6g s, rk4 %.6g s, euler none, "
+              "implicit unlimited\n", limits.omega_max, limits.symplectic, limits.rk4);
+  const std::string warning = step_warning(m, limits);
+  if (!warning.empty()) std::printf("  %s\n", warning.c_str());
   return exit_ok;
 }
 

@@ -1,0 +1,34 @@
+#pragma once
+// Backward Euler after Baraff & Witkin 1998 (eq. 15-16): linearise the forces about the current state and solve
+//   (M - h df/dv - h^2 df/dx) dv = h (f + h df/dx v)
+// for the velocity change with a block-Jacobi preconditioned conjugate gradient (their §5.3, with the
+// constraint filter of §5.3 for pinned particles: their rows and columns are projected out, S = 0).
+#include <span>
+
+#include "core/model.h"
+
+namespace clothsim {
+
+// How CG applies the matrix (docs/performance.md, "Implicit integration", compares them).
+enum class ImplicitLayout {
+  spring_blocks,  // the h kd n n^T + h^2 df/dx block of each spring built once per solve, read by every CG product
+  recompute,      // matrix-free: each CG product recomputes the spring blocks from the positions
+};
+
+struct CgResult {
+  int iterations = 0;
+  Real residual = 0;  // |r| / |b| at exit (0 when b = 0)
+};
+
+// Advances in by h into out; model.newton_iterations linear solves (the first is Baraff & Witkin's, later ones
+// are Newton corrections of the backward-Euler residual about the latest iterate). Appends the step's CG
+// iterations and final residual to ws.solve_log while its capacity lasts.
+void integrate_implicit(const Model& model, const State& in, State& out, Workspace& ws, Real h,
+                        ImplicitLayout layout = ImplicitLayout::spring_blocks);
+
+// One preconditioned CG solve of A y = b, b already in ws.cg_r, y left in ws.cg_x; x are the positions the
+// springs are linearised about (read by the recompute layout). Builds nothing: ws.spring_block, ws.cg_diag and
+// ws.cg_precond must be current. Exposed for the benchmark.
+CgResult solve_cg(const Model& model, std::span<const Vec3> x, Workspace& ws, Real h, ImplicitLayout layout);
+
+}  // namespace clothsim
