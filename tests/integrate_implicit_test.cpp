@@ -1,0 +1,158 @@
+#include <doctest/doctest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+
+#include "spring_fixtures.h"
+#include "systems/diagnostics.h"
+#include "systems/forces.h"
+#include "systems/integrate_implicit.h"
+#include "systems/spring_forces.h"
+#include "systems/spring_jacobian.h"
+#include "systems/stability.h"
+
+using namespace clothsim;
+using namespace clothsim::test;
+
+namespace {
+
+// Position of the free end of a pinned-anchor spring (k = 100 N/m, m = 1 kg, omega = 10 rad/s) released from
+// 0.1 m of stretch, at t = 1 s, by backward Euler with step h; exact: rest + 0.1 cos(omega t).
+Real implicit_error(Real h) {
+  BuiltScene s = two_particle_spring(0, 1, 100, 0, 1, 1.1, Integrator::implicit);
+  Workspace ws = make_workspace(s.model);
+  run_steps(s.model, s.state, ws, h, int(std::lround(1.0 / h)));
+  return std::abs(s.state.x[1].x() - (1 + 0.1 * std::cos(10.0)));
+}
+
+}  // namespace
+
+TEST_CASE("implicit Euler converges at first order on the two-particle spring") {
+  const Real e1 = implicit_error(4e-3), e2 = implicit_error(2e-3), e3 = implicit_error(1e-3);
+  MESSAGE("errors at h = 4, 2, 1 ms: " << e1 << " " << e2 << " " << e3);
+  // First order: halving h halves the error (ratio 2; 4 would be second order).
+  CHECK(e1 / e2 == doctest::Approx(2).epsilon(0.1));
+  CHECK(e2 / e3 == doctest::Approx(2).epsilon(0.1));
+  CHECK(e3 < 0.01);
+}
+
+TEST_CASE("one implicit step equals a dense solve of Baraff & Witkin eq. 15-16 on a small sheet") {
+  GridSpec g;
+  g.nx = 5;
+  g.ny = 4;
+  g.damping = 0.3;
+  g.pins = {0, 4};
+  g.integrator = Integrator::implicit;
+  BuiltScene s = grid_sheet(g);
+  Model& m = s.model;
+  m.cg_tolerance = 1e-13;
+  const Index n = m.particle_count;
+  // A stretched, moving state, so the transverse terms and the damping Jacobian all matter.
+  for (Index i = 0; i < n; ++i) {
+    s.state.x[i] *= 1.15;
+    s.state.x[i].z() += 0.02 * std::sin(1.7 * i);
+    if (m.particle_inv_mass[i] > 0) s.state.v[i] = Vec3(std::sin(0.3 * i), std::cos(0.7 * i), 0.5 * std::sin(i));
+  }
+  const Real h = 0.02;
+  Workspace ws = make_workspace(m);
+  State out = s.state;
+  step(m, s.state, out, ws, h);
+
+  // Dense reference: A = M - h df/dv - h^2 df/dx, b = h (f + h df/dx v), rows and columns of pins removed.
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(3 * n, 3 * n), D = K;
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * n), v(3 * n), mass = f;
+  for (Index i = 0; i < n; ++i) {
+    v.segment<3>(3 * i) = s.state.v[i];
+    if (m.particle_inv_mass[i] > 0) {
+      mass.segment<3>(3 * i).setConstant(1 / m.particle_inv_mass[i]);
+      f.segment<3>(3 * i) += m.gravity / m.particle_inv_mass[i];
+    }
+  }
+  for (Index k = 0; k < m.spring_count; ++k) {
+    const Index a = m.spring_a[k], b = m.spring_b[k];
+    const SpringJacobian j = spring_jacobian(s.state.x[a], s.state.x[b], m.spring_rest[k], m.spring_ke[k], m.spring_kd[k]);
+    const Vec3 fa = spring_force(s.state.x[a], s.state.x[b], s.state.v[a], s.state.v[b], m.spring_rest[k],
+                                 m.spring_ke[k], m.spring_kd[k]);
+    f.segment<3>(3 * a) += fa;
+    f.segment<3>(3 * b) -= fa;
+    for (auto [p, q, sign] : {std::tuple{a, a, -1.0}, {b, b, -1.0}, {a, b, 1.0}, {b, a, 1.0}}) {
+      K.block<3, 3>(3 * p, 3 * q) += sign * j.dfdx;
+      D.block<3, 3>(3 * p, 3 * q) += sign * j.dfdv;
+    }
+  }
+  Eigen::MatrixXd A = Eigen::MatrixXd(mass.asDiagonal()) - h * D - h * h * K;
+  Eigen::VectorXd rhs = h * (f + h * K * v);
+  for (Index p : m.pinned) {
+    A.row(3 * p).setZero(); A.col(3 * p).setZero();
+    A.block<3, 3>(3 * p, 3 * p).setIdentity();
+    A.row(3 * p + 1).setZero(); A.col(3 * p + 1).setZero(); A(3 * p + 1, 3 * p + 1) = 1;
+    A.row(3 * p + 2).setZero(); A.col(3 * p + 2).setZero(); A(3 * p + 2, 3 * p + 2) = 1;
+    rhs.segment<3>(3 * p).setZero();
+  }
+  const Eigen::VectorXd dv = A.ldlt().solve(rhs);
+  Real worst = 0;
+  for (Index i = 0; i < n; ++i) worst = std::max(worst, (out.v[i] - s.state.v[i] - Vec3(dv.segment<3>(3 * i))).norm());
+  CHECK(worst < 1e-9 * dv.norm());
+  CHECK(dv.norm() > 0.1);  // the step does change the velocities
+  for (Index p : m.pinned) CHECK(out.x[p] == s.state.x[p]);
+  REQUIRE(ws.solve_log.size() == 1);
+  CHECK(ws.solve_log[0].cg_residual <= 1e-13);
+  CHECK(ws.solve_log[0].cg_iterations > 1);
+}
+
+TEST_CASE("implicit stays bounded on a stiff hanging sheet at 100x the symplectic Euler limit") {
+  GridSpec g;
+  g.nx = g.ny = 16;
+  g.stiffness = 20000;
+  g.damping = 0.05;
+  g.bend_scale = 0.2;
+  g.pins = {0, 15};
+  g.integrator = Integrator::implicit;
+  BuiltScene s = grid_sheet(g);
+  const StableSteps limits = stable_steps(estimate_omega_max(s.model, s.state.x));
+  const Real h = 100 * limits.symplectic;
+  MESSAGE("omega_max " << limits.omega_max << " rad/s, symplectic limit " << limits.symplectic << " s, h " << h);
+  Workspace ws = make_workspace(s.model);
+  const int steps = int(std::ceil(2.0 / h));  // two seconds of swinging and settling
+  Real worst_strain = 0;
+  State scratch = s.state;
+  for (int k = 0; k < steps; ++k) {
+    step(s.model, s.state, scratch, ws, h);
+    std::swap(s.state, scratch);
+    REQUIRE(state_is_finite(s.state));
+    worst_strain = std::max(worst_strain, max_spring_strain(s.model, s.state.x));
+  }
+  MESSAGE(steps << " steps, largest strain " << worst_strain);
+  CHECK(worst_strain < 0.2);
+  CHECK(worst_strain > 1e-4);  // it did hang and stretch
+  // It sagged: the free bottom corner fell by about the sheet's height (swinging down from the top corners).
+  CHECK(s.state.x[g.nx * g.ny - 1].y() < -0.3);
+
+  // The same sheet and step under symplectic Euler explodes within a few steps: the step is really past it.
+  BuiltScene sym = grid_sheet(GridSpec{g.nx, g.ny, g.size, g.stiffness, g.damping, g.bend_scale, g.density, 0, g.pins,
+                                       g.gravity, Integrator::symplectic});
+  Workspace sym_ws = make_workspace(sym.model);
+  run_steps(sym.model, sym.state, sym_ws, h, 10);
+  CHECK(!(max_spring_strain(sym.model, sym.state.x) < 1));
+}
+
+TEST_CASE("Newton iterations reduce the backward-Euler residual of a step on a strongly nonlinear spring") {
+  // Free end swinging sideways at 2 m/s: the spring turns during the step, so one linear solve is inexact.
+  auto residual = [](int newton) {
+    BuiltScene s = two_particle_spring(0, 0.1, 400, 0, 1, 1.3, Integrator::implicit);
+    s.model.newton_iterations = newton;
+    s.state.v[1] = Vec3(0, 2, 0);
+    Workspace ws = make_workspace(s.model);
+    State out = s.state;
+    const Real h = 0.05;
+    step(s.model, s.state, out, ws, h);
+    // g(dv) = M dv - h f(x + h (v + dv), v + dv): zero for the exact backward-Euler step.
+    const Vec3 f = -spring_force(out.x[0], out.x[1], out.v[0], out.v[1], 1, 400, 0);
+    return (0.1 * (out.v[1] - s.state.v[1]) - h * f).norm();
+  };
+  const Real r1 = residual(1), r2 = residual(2), r4 = residual(4);
+  MESSAGE("backward-Euler residual after 1, 2, 4 Newton iterations: " << r1 << " " << r2 << " " << r4);
+  CHECK(r1 > 1e-3);
+  CHECK(r2 < 0.5 * r1);  // Newton converges quadratically once close: r4 is ~1e-12
+  CHECK(r4 < 1e-8);
+}
