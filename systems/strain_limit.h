@@ -9,7 +9,7 @@
 namespace clothsim {
 
 // Strain tolerance guaranteed on exit when the iteration converges: every limited spring ends with
-// (|d| - rest)/rest <= maxStrain + strain_limit_tolerance. docs/strain-limiting.md.
+// (|d| - rest)/rest <= maxStrain + strain_limit_tolerance. docs/stability.md, "Strain limiting".
 inline constexpr Real strain_limit_tolerance = 1e-3;
 inline constexpr int strain_limit_max_iterations = 500;
 
@@ -18,8 +18,5 @@ inline constexpr int strain_limit_max_iterations = 500;
 // not move); each particle moves by the average of its springs' proposals, gathered over the CSR of incident
 // springs, so the result does not depend on the thread count. Returns the iterations taken.
 int apply_strain_limit(const Model& model, State& out, Workspace& ws, Real h);
-
-// Largest strain minus that spring's limit over the limited springs (<= 0 when every spring is within it).
-Real max_strain_excess(const Model& model, std::span<const Vec3> x);
 
 }  // namespace clothsim
