@@ -32,19 +32,6 @@ Real propose_corrections(const Model& m, std::span<const Vec3> x, std::span<Vec3
 
 }  // namespace
 
-Real max_strain_excess(const Model& m, std::span<const Vec3> x) {
-  return tbb::parallel_reduce(
-      tbb::blocked_range<Index>(0, m.spring_count, 4 * particle_grain), -std::numeric_limits<Real>::infinity(),
-      [&](const tbb::blocked_range<Index>& r, Real worst) {
-        for (Index s = r.begin(); s != r.end(); ++s) {
-          const Real len = (x[m.spring_b[s]] - x[m.spring_a[s]]).norm();
-          worst = std::max(worst, (len - m.spring_rest[s]) / m.spring_rest[s] - m.spring_max_strain[s]);
-        }
-        return worst;
-      },
-      [](Real p, Real q) { return std::max(p, q); });
-}
-
 int apply_strain_limit(const Model& m, State& out, Workspace& ws, Real h) {
   auto& corr = ws.strain_correction;
   int it = 0;
