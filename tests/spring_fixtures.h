@@ -5,34 +5,24 @@
 
 #include "core/build_model.h"
 #include "core/model.h"
+#include "scene_fixtures.h"
 #include "systems/step.h"
 
 namespace clothsim::test {
 
-// Particle 0 at the origin, particle 1 at (length, 0, 0); one spring of the given rest length. A zero mass
-// pins that particle. No gravity, no air damping.
+// One spring along x between particle 0 at the origin and particle 1 at `length` (scene_fixtures.h's oscillator,
+// generalised): a zero mass pins that particle. No gravity, no air damping, CG tolerance 1e-12.
 inline BuiltScene two_particle_spring(Real mass0, Real mass1, Real ke, Real kd, Real rest, Real length,
                                       Integrator integrator) {
-  BuiltScene s;
+  BuiltScene s = two_particle_spring(ke, kd, mass1 > 0 ? mass1 : 1, rest, length - rest, integrator);
   Model& m = s.model;
-  m.particle_count = 2;
   m.particle_inv_mass = {mass0 > 0 ? 1 / mass0 : 0, mass1 > 0 ? 1 / mass1 : 0};
+  m.pinned.clear();
   for (Index i = 0; i < 2; ++i)
     if (m.particle_inv_mass[i] == 0) m.pinned.push_back(i);
-  m.spring_count = 1;
-  m.spring_a = {0};
-  m.spring_b = {1};
-  m.spring_rest = {rest};
-  m.spring_ke = ParamField(ke);
-  m.spring_kd = ParamField(kd);
-  m.particle_spring_offset = {0, 1, 2};
-  m.particle_spring_index = {0, ~0};
-  m.particle_tri_offset = {0, 0, 0};
-  m.integrator = integrator;
   m.cg_tolerance = 1e-12;
   m.dt = 1e-3;
   m.end_frame = 2;
-  s.state = make_state(m, {Vec3(0, 0, 0), Vec3(length, 0, 0)});
   return s;
 }
 
@@ -52,15 +42,10 @@ struct GridSpec {
 // A grid sheet turned into the XY plane with row 0 (vertices 0 .. nx-1) on top at y = size/2, so pinning
 // vertices of row 0 hangs it under gravity -y. Built by build_model.
 inline BuiltScene grid_sheet(const GridSpec& g) {
-  SceneDesc scene;
-  scene.path = "grid_sheet";
-  scene.simulation.integrator = g.integrator;
+  SceneDesc scene = grid_scene(g.nx, g.ny, g.size, g.integrator);
   scene.simulation.gravity = g.gravity;
   scene.simulation.cg_tolerance = 1e-8;
-  ClothDesc c;
-  c.grid_nx = g.nx;
-  c.grid_ny = g.ny;
-  c.grid_w = c.grid_h = g.size;
+  ClothDesc& c = scene.cloths[0];
   c.stiffness = g.stiffness;
   c.damping = g.damping;
   c.bend_scale = g.bend_scale;
@@ -68,9 +53,7 @@ inline BuiltScene grid_sheet(const GridSpec& g) {
   c.max_strain = g.max_strain;
   c.pins = g.pins;
   c.transform.rotate = Vec3(90, 0, 0);
-  c.save_name = "sheet";
-  scene.cloths = {c};
-  return build_model(scene, {make_cloth_grid(c)});
+  return build(scene);
 }
 
 // Advances `steps` steps of h with the model's integrator.
