@@ -12,47 +12,52 @@ namespace {
 
 using Sums2 = Eigen::Matrix<Real, 2, 1, Eigen::DontAlign>;
 
-// Each spring's block of A and, on the first solve, its share h^2 df_a/dx_b (v_b - v_a) of the right-hand side
-// h^2 (df/dx) v (particle b receives the negative).
-void build_spring_terms(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Real h, bool first,
-                        Workspace& ws) {
+// Each spring's block of A, read by every CG product.
+void build_spring_blocks(const Model& m, std::span<const Vec3> x, Real h, Workspace& ws) {
   parallel_over(m.spring_count, 4 * particle_grain, [&](Index s) {
     const Index a = m.spring_a[s], b = m.spring_b[s];
-    const SpringJacobian j = spring_jacobian(x[a], x[b], m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]);
-    ws.spring_block[s] = spring_system_block(j, h);
-    if (first) ws.spring_vec[s] = (h * h) * (j.dfdx * (v[b] - v[a]));
+    ws.spring_block[s] = spring_system_block(
+        spring_jacobian(x[a], x[b], m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]), h);
   });
 }
 
-// Per particle, gathered over its incident springs (no scatter): the block outside the springs (mass, air
-// damping h m c I, wind h k_w A n n^T), the inverse of the whole diagonal block (block-Jacobi), and the
-// right-hand side into ws.cg_r. First solve: b = h f + h^2 (df/dx) v (eq. 15-16); later Newton solves:
+// The block of A outside the springs, applied to p: mass and air damping (m (1 + h c)) and wind h k_w A n n^T.
+Vec3 apply_particle_block(const Model& m, Index i, Real mass, Real h, const Workspace& ws, const Vec3& p) {
+  Vec3 q = (mass * (1 + h * m.air_damping)) * p;
+  if (m.wind_strength != 0) q += (h * m.wind_strength * m.particle_area[i] * ws.normal[i].dot(p)) * ws.normal[i];
+  return q;
+}
+
+// Per particle, gathered over its incident springs (no scatter): the inverse of the diagonal block of A
+// (block-Jacobi) and the right-hand side into ws.cg_r. First solve: b = h f + h^2 (df/dx) v (eq. 15-16), the
+// (df/dx) v term recomputed from each incident spring's Jacobian (once a step; no per-spring buffer); later Newton solves:
 // b = h f(x_k, v_k) - M dv_k, the backward-Euler residual. ws.f holds accelerations: m a = f for free particles.
 // Pinned particles get zero everywhere: the filter S = 0 of Baraff & Witkin §5.3.
-void build_particle_terms(const Model& m, Real h, bool first, Workspace& ws) {
+void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Real h, bool first,
+                          Workspace& ws) {
   const bool wind = m.wind_strength != 0;
   parallel_over(m.particle_count, particle_grain, [&](Index i) {
     const Real inv_m = m.particle_inv_mass[i];
     if (!(inv_m > 0)) {
-      ws.cg_diag[i] = Mat3::Zero();
       ws.cg_precond[i] = Mat3::Zero();
       ws.cg_r[i] = Vec3::Zero();
       return;
     }
     const Real mass = 1 / inv_m;
-    Mat3 diag = (mass * (1 + h * m.air_damping)) * Mat3::Identity();
-    if (wind) diag += (h * m.wind_strength * m.particle_area[i]) * (ws.normal[i] * ws.normal[i].transpose());
-    Mat3 block = diag;
-    Vec3 kv = Vec3::Zero();
+    Mat3 block = (mass * (1 + h * m.air_damping)) * Mat3::Identity();
+    if (wind) block += (h * m.wind_strength * m.particle_area[i]) * (ws.normal[i] * ws.normal[i].transpose());
+    Vec3 kv = Vec3::Zero();  // ((df/dx) v)_i = sum over springs (i, j) of df_i/dx_j (v_j - v_i)
     for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
       const Index e = m.particle_spring_index[k];
       const Index s = e >= 0 ? e : ~e;
       block += ws.spring_block[s];
-      if (first) kv += e >= 0 ? ws.spring_vec[s] : Vec3(-ws.spring_vec[s]);
+      if (first) {
+        const Index a = m.spring_a[s], b = m.spring_b[s], j = e >= 0 ? b : a;
+        kv += spring_jacobian(x[a], x[b], m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]).dfdx * (v[j] - v[i]);
+      }
     }
-    ws.cg_diag[i] = diag;
     ws.cg_precond[i] = block.inverse();
-    ws.cg_r[i] = first ? Vec3(h * mass * ws.f[i] + kv) : Vec3(h * mass * ws.f[i] - mass * ws.dv[i]);
+    ws.cg_r[i] = first ? Vec3(h * mass * ws.f[i] + (h * h) * kv) : Vec3(h * mass * ws.f[i] - mass * ws.dv[i]);
   });
 }
 
@@ -65,7 +70,7 @@ void apply_system(const Model& m, std::span<const Vec3> x, Real h, ImplicitLayou
       q[i] = Vec3::Zero();
       return;
     }
-    Vec3 sum = ws.cg_diag[i] * p[i];
+    Vec3 sum = apply_particle_block(m, i, 1 / m.particle_inv_mass[i], h, ws, p[i]);
     for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
       const Index e = m.particle_spring_index[k];
       const Index s = e >= 0 ? e : ~e;
@@ -86,14 +91,13 @@ void apply_system(const Model& m, std::span<const Vec3> x, Real h, ImplicitLayou
 
 CgResult solve_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h, ImplicitLayout layout) {
   const Index n = m.particle_count;
-  auto &y = ws.cg_x, &r = ws.cg_r, &p = ws.cg_p, &q = ws.cg_q, &z = ws.cg_z;
+  auto &y = ws.cg_x, &r = ws.cg_r, &p = ws.cg_p, &q = ws.cg_q;
   const auto& precond = ws.cg_precond;
-  // y0 = 0, so r0 = b; z0 = P r0; p0 = z0.
+  // y0 = 0, so r0 = b; z0 = P r0; p0 = z0. z = P r is recomputed where needed rather than stored.
   const Sums2 start = deterministic_sum(n, particle_grain, Sums2(Sums2::Zero()), [&](Index i) {
     y[i] = Vec3::Zero();
-    z[i] = precond[i] * r[i];
-    p[i] = z[i];
-    return Sums2(r[i].squaredNorm(), r[i].dot(z[i]));
+    p[i] = precond[i] * r[i];
+    return Sums2(r[i].squaredNorm(), r[i].dot(p[i]));
   });
   const Real bb = start[0];
   Real rr = bb, rz = start[1];
@@ -108,13 +112,12 @@ CgResult solve_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h
     const Sums2 next = deterministic_sum(n, particle_grain, Sums2(Sums2::Zero()), [&](Index i) {
       y[i] += alpha * p[i];
       r[i] -= alpha * q[i];
-      z[i] = precond[i] * r[i];
-      return Sums2(r[i].squaredNorm(), r[i].dot(z[i]));
+      return Sums2(r[i].squaredNorm(), r[i].dot(precond[i] * r[i]));
     });
     const Real beta = next[1] / rz;
     rr = next[0];
     rz = next[1];
-    parallel_over(n, particle_grain, [&](Index i) { p[i] = z[i] + beta * p[i]; });
+    parallel_over(n, particle_grain, [&](Index i) { p[i] = precond[i] * r[i] + beta * p[i]; });
     ++res.iterations;
   }
   res.residual = std::sqrt(rr / bb);
@@ -130,9 +133,9 @@ void integrate_implicit(const Model& m, const State& in, State& out, Workspace& 
     std::span<const Vec3> x = first ? std::span<const Vec3>(in.x) : std::span<const Vec3>(out.x);
     std::span<const Vec3> v = first ? std::span<const Vec3>(in.v) : std::span<const Vec3>(out.v);
     eval_forces(m, x, v, in.step, ws);
-    build_spring_terms(m, x, v, h, first, ws);
+    build_spring_blocks(m, x, h, ws);
     if (first) parallel_over(n, particle_grain, [&](Index i) { ws.dv[i] = Vec3::Zero(); });
-    build_particle_terms(m, h, first, ws);
+    build_particle_terms(m, x, v, h, first, ws);
     const CgResult cg = solve_cg(m, x, ws, h, layout);
     record.cg_iterations += cg.iterations;
     record.cg_residual = cg.residual;

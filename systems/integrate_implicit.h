@@ -27,7 +27,7 @@ void integrate_implicit(const Model& model, const State& in, State& out, Workspa
                         ImplicitLayout layout = ImplicitLayout::spring_blocks);
 
 // One preconditioned CG solve of A y = b, b already in ws.cg_r, y left in ws.cg_x; x are the positions the
-// springs are linearised about (read by the recompute layout). Builds nothing: ws.spring_block, ws.cg_diag and
+// springs are linearised about (read by the recompute layout). Builds nothing: ws.spring_block and
 // ws.cg_precond must be current. Exposed for the benchmark.
 CgResult solve_cg(const Model& model, std::span<const Vec3> x, Workspace& ws, Real h, ImplicitLayout layout);
 
