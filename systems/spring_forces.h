@@ -14,7 +14,10 @@ inline Vec3 spring_force(const Vec3& xa, const Vec3& xb, const Vec3& va, const V
   const Vec3 d = xb - xa;
   const Real len = d.norm();
   if (!(len > 0)) return Vec3::Zero();
-  const Vec3 n = d / len;
+  // One division, not three (d / len divides each component): division and sqrt bound this kernel
+  // (docs/performance.md, roofline).
+  const Real inv_len = 1 / len;
+  const Vec3 n = inv_len * d;
   return (ke * (len - rest) + kd * (vb - va).dot(n)) * n;
 }
 

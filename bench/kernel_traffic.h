@@ -1,0 +1,44 @@
+#pragma once
+// Compulsory traffic and work of each kernel per item, the figures docs/performance.md's roofline uses.
+// Bytes count each array element a kernel must stream once (neighbour positions re-read from cache are free);
+// they assume the uniform stiffness/damping of the bench sheet (ParamField stride 0, no per-spring array).
+#include <cstdint>
+
+#include "core/model.h"
+
+namespace clothsim::bench {
+
+constexpr double vec3_bytes = 3 * sizeof(Real);
+constexpr double index_bytes = sizeof(Index);
+
+// gather: per particle x, v read, f written, one offset; per spring two CSR entries, each reading a, b, rest.
+inline double bytes_springs_gather(const Model& m) {
+  return m.particle_count * (3 * vec3_bytes + index_bytes) +
+         m.spring_count * 2 * (index_bytes + 2 * index_bytes + sizeof(Real));
+}
+// two_phase: phase 1 reads x, v, a, b, rest and writes the spring force; phase 2 reads two CSR entries and the
+// force once (the second end hits cache), and writes f.
+inline double bytes_springs_two_phase(const Model& m) {
+  return m.particle_count * (3 * vec3_bytes + index_bytes) +
+         m.spring_count * (2 * index_bytes + sizeof(Real) + vec3_bytes + 2 * index_bytes + vec3_bytes);
+}
+// external forces: read f, v, inv_mass, write f.  symplectic integrate: read x, v, a, write x, v.
+inline double bytes_external(const Model& m) { return m.particle_count * (3 * vec3_bytes + sizeof(Real)); }
+inline double bytes_integrate(const Model& m) { return m.particle_count * 5 * vec3_bytes; }
+// One symplectic step with the model's layout.
+inline double bytes_step_symplectic(const Model& m) {
+  const double springs = m.spring_layout == SpringLayout::gather ? bytes_springs_gather(m) : bytes_springs_two_phase(m);
+  return springs + bytes_external(m) + bytes_integrate(m);
+}
+// RK4: four force stages and four per-particle update passes (each reads/writes about 8 Vec3 per particle).
+inline double bytes_step_rk4(const Model& m) {
+  const double springs = m.spring_layout == SpringLayout::gather ? bytes_springs_gather(m) : bytes_springs_two_phase(m);
+  return 4 * (springs + bytes_external(m)) + 4 * m.particle_count * 8 * vec3_bytes;
+}
+// normals: per particle reads x of the incident triangles (cache), CSR offset, writes the normal; per triangle
+// three CSR entries and three corner indices.
+inline double bytes_normals(const Model& m) {
+  return m.particle_count * (2 * vec3_bytes + index_bytes) + m.tri_count * 3 * (index_bytes + 3 * index_bytes);
+}
+
+}  // namespace clothsim::bench
