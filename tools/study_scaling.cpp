@@ -43,8 +43,9 @@ std::vector<int> parse_thread_list(const std::string& text) {
   return counts;
 }
 
-// Weak scaling: a grid of nx x ny vertices becomes about sqrt(t) times as many along each side, and each pin
-// keeps its place on the sheet (corner pins stay at the corners).
+// Weak scaling: a grid of nx x ny vertices becomes about sqrt(t) times as many along each side at the same
+// spacing (the sheet grows, so mass per particle and the stable step stay as they were), and each pin keeps
+// its place on the sheet (corner pins stay at the corners).
 SceneDesc grown_for_threads(const SceneDesc& desc, int threads) {
   SceneDesc out = desc;
   const double side = std::sqrt(double(threads));
@@ -54,6 +55,8 @@ SceneDesc grown_for_threads(const SceneDesc& desc, int threads) {
     const int nx = c.grid_nx, ny = c.grid_ny;
     c.grid_nx = int(std::lround((nx - 1) * side)) + 1;
     c.grid_ny = int(std::lround((ny - 1) * side)) + 1;
+    c.grid_w *= double(c.grid_nx - 1) / (nx - 1);
+    c.grid_h *= double(c.grid_ny - 1) / (ny - 1);
     for (Index& p : c.pins) {
       const long i = std::lround(double(p % nx) * (c.grid_nx - 1) / (nx - 1));
       const long j = std::lround(double(p / nx) * (c.grid_ny - 1) / (ny - 1));
