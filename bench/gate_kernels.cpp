@@ -48,6 +48,7 @@ int main() {
 
   std::size_t sink = 0;
   measure("springs_gather", [&] { eval_springs_gather(m, sym.state.x, sym.state.v, ws.f); });
+  measure("springs_blocked", [&] { eval_springs_blocked(m, sym.state.x, sym.state.v, ws.f); });
   measure("springs_two_phase", [&] { eval_springs_two_phase(m, sym.state.x, sym.state.v, ws.f, per_spring); });
   measure("step_symplectic", [&] { step(m, sym.state, scratch, ws, m.dt); });
   measure("step_rk4", [&] { step(rk4.model, rk4.state, scratch_rk4, ws_rk4, rk4.model.dt); });

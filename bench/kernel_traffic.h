@@ -22,17 +22,30 @@ inline double bytes_springs_two_phase(const Model& m) {
   return m.particle_count * (3 * vec3_bytes + index_bytes) +
          m.spring_count * (2 * index_bytes + sizeof(Real) + vec3_bytes + 2 * index_bytes + vec3_bytes);
 }
+// blocked: per particle x, v read once (neighbours within a chunk hit cache), f zeroed and then read-modified-
+// written; per spring a, b, rest.
+inline double bytes_springs_blocked(const Model& m) {
+  return m.particle_count * 5 * vec3_bytes + m.spring_count * (2 * index_bytes + sizeof(Real));
+}
+inline double bytes_springs(const Model& m, SpringLayout layout) {
+  switch (layout) {
+    case SpringLayout::gather: return bytes_springs_gather(m);
+    case SpringLayout::two_phase: return bytes_springs_two_phase(m);
+    case SpringLayout::blocked: return bytes_springs_blocked(m);
+  }
+  return 0;
+}
 // external forces: read f, v, inv_mass, write f.  symplectic integrate: read x, v, a, write x, v.
 inline double bytes_external(const Model& m) { return m.particle_count * (3 * vec3_bytes + sizeof(Real)); }
 inline double bytes_integrate(const Model& m) { return m.particle_count * 5 * vec3_bytes; }
 // One symplectic step with the model's layout.
 inline double bytes_step_symplectic(const Model& m) {
-  const double springs = m.spring_layout == SpringLayout::gather ? bytes_springs_gather(m) : bytes_springs_two_phase(m);
+  const double springs = bytes_springs(m, m.spring_layout);
   return springs + bytes_external(m) + bytes_integrate(m);
 }
 // RK4: four force stages and four per-particle update passes (each reads/writes about 8 Vec3 per particle).
 inline double bytes_step_rk4(const Model& m) {
-  const double springs = m.spring_layout == SpringLayout::gather ? bytes_springs_gather(m) : bytes_springs_two_phase(m);
+  const double springs = bytes_springs(m, m.spring_layout);
   return 4 * (springs + bytes_external(m)) + 4 * m.particle_count * 8 * vec3_bytes;
 }
 // normals: per particle reads x of the incident triangles (cache), CSR offset, writes the normal; per triangle

@@ -54,9 +54,10 @@ void BM_springs(benchmark::State& st, SpringLayout layout) {
   Fixture& fx = fixture(int(st.range(0)), Integrator::symplectic);
   const Model& m = fx.built.model;
   const State& s = fx.warm;
-  std::vector<Vec3> scratch(m.spring_count);  // owned here so both layouts run on one model
+  std::vector<Vec3> scratch(m.spring_count);  // two_phase's buffer, owned here so every layout runs on one model
   auto run = [&] {
     if (layout == SpringLayout::gather) eval_springs_gather(m, s.x, s.v, fx.ws.f);
+    else if (layout == SpringLayout::blocked) eval_springs_blocked(m, s.x, s.v, fx.ws.f);
     else eval_springs_two_phase(m, s.x, s.v, fx.ws.f, scratch);
   };
   run();  // warm-up: the scratch pages are touched outside the timing
@@ -64,8 +65,7 @@ void BM_springs(benchmark::State& st, SpringLayout layout) {
     run();
     benchmark::ClobberMemory();
   }
-  set_counters(st, m.spring_count,
-               layout == SpringLayout::gather ? bytes_springs_gather(m) : bytes_springs_two_phase(m));
+  set_counters(st, m.spring_count, bytes_springs(m, layout));
 }
 
 // A batch of steps from the saved state; the restore is outside the timing.
@@ -128,6 +128,7 @@ void sizes_threads(benchmark::internal::Benchmark* b) {
 
 BENCHMARK_CAPTURE(BM_springs, gather, SpringLayout::gather)->Apply(sizes_threads);
 BENCHMARK_CAPTURE(BM_springs, two_phase, SpringLayout::two_phase)->Apply(sizes_threads);
+BENCHMARK_CAPTURE(BM_springs, blocked, SpringLayout::blocked)->Apply(sizes_threads);
 BENCHMARK_CAPTURE(BM_step, symplectic, Integrator::symplectic)->Apply(sizes_threads);
 BENCHMARK_CAPTURE(BM_step, rk4, Integrator::rk4)->Apply(sizes_threads);
 BENCHMARK(BM_normals)->Apply(sizes_threads);

@@ -39,6 +39,10 @@ void eval_springs_gather(const Model& model, std::span<const Vec3> x, std::span<
 void eval_springs_two_phase(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v,
                             std::span<Vec3> f, std::span<Vec3> spring_force);
 
+// Blocked layout: f zeroed, then each pass of model.spring_pass_chunk scatters its chunks in parallel. Sums in
+// (pass, spring) order, not the CSR's: equal to gather up to rounding, and the same bytes at any thread count.
+void eval_springs_blocked(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f);
+
 // Largest strain (|d| - rest)/rest over all springs: a maximum, so exact at any thread count.
 Real max_spring_strain(const Model& model, std::span<const Vec3> x);
 

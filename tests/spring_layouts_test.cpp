@@ -3,9 +3,11 @@
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "bench/sheet_scene.h"
+#include "core/spring_chunks.h"
 #include "systems/spring_forces.h"
 
 using namespace clothsim;
@@ -77,4 +79,63 @@ TEST_CASE("gather and two-phase layouts give the same bytes at 1 and 2 threads")
   Vec3 total = Vec3::Zero();
   for (const Vec3& fi : two1) total += fi;
   CHECK(total.norm() < 1e-9 * m.spring_count);
+}
+
+TEST_CASE("blocked layout: chunks of a pass touch disjoint particles, every chunk once") {
+  BuiltScene b = perturbed_sheet();
+  Model& m = b.model;
+  CHECK(m.spring_layout == SpringLayout::blocked);  // a grid's spring order is local: the default
+  REQUIRE(build_spring_chunks(m, 256));
+  const Index chunks = Index(m.spring_chunk_offset.size()) - 1;
+  CHECK(chunks == (m.spring_count + 255) / 256);
+  CHECK(Index(m.spring_pass_chunk.size()) == chunks);
+  CHECK(m.spring_pass_offset.size() > 2);  // 256-spring chunks span ~2 rows of a 33-wide sheet: several passes
+  std::vector<int> seen(chunks, 0);
+  for (std::size_t p = 0; p + 1 < m.spring_pass_offset.size(); ++p) {
+    std::vector<int> owner(m.particle_count, -1);  // which chunk of this pass touched a particle
+    for (Index k = m.spring_pass_offset[p]; k < m.spring_pass_offset[p + 1]; ++k) {
+      const Index c = m.spring_pass_chunk[k];
+      ++seen[c];
+      for (Index s = m.spring_chunk_offset[c]; s < m.spring_chunk_offset[c + 1]; ++s)
+        for (Index i : {m.spring_a[s], m.spring_b[s]}) {
+          CHECK((owner[i] == -1 || owner[i] == c));
+          owner[i] = c;
+        }
+    }
+  }
+  for (int n : seen) CHECK(n == 1);
+}
+
+TEST_CASE("blocked layout: same bytes at 1, 2 and 3 threads, equal to gather up to summation order") {
+  BuiltScene b = perturbed_sheet();
+  Model& m = b.model;
+  REQUIRE(build_spring_chunks(m, 256));
+  std::vector<Vec3> gather(m.particle_count), blocked[3];
+  eval_springs_gather(m, b.state.x, b.state.v, gather);
+  for (int t = 1; t <= 3; ++t) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, t);
+    blocked[t - 1].resize(m.particle_count);
+    eval_springs_blocked(m, b.state.x, b.state.v, blocked[t - 1]);
+  }
+  CHECK(same_bytes(blocked[0], blocked[1]));
+  CHECK(same_bytes(blocked[0], blocked[2]));
+  double worst = 0;
+  for (Index i = 0; i < m.particle_count; ++i)
+    worst = std::max(worst, (blocked[0][i] - gather[i]).norm() / std::max(1.0, gather[i].norm()));
+  CHECK(worst < 1e-12);  // a handful of springs, each rounded once: only the order of the sum differs
+}
+
+TEST_CASE("blocked layout is refused when the spring order has no locality") {
+  BuiltScene b = perturbed_sheet();
+  Model& m = b.model;
+  // Interleave springs from the two ends of the sheet: every chunk spans almost all particles.
+  std::vector<Index> a, c;
+  for (Index lo = 0, hi = m.spring_count - 1; lo <= hi; ++lo, --hi) {
+    a.push_back(m.spring_a[lo]); c.push_back(m.spring_b[lo]);
+    if (hi != lo) { a.push_back(m.spring_a[hi]); c.push_back(m.spring_b[hi]); }
+  }
+  m.spring_a = a;
+  m.spring_b = c;
+  CHECK_FALSE(build_spring_chunks(m, 256));
+  CHECK(build_spring_chunks(m, 256, 1000));  // allowed as many passes as chunks, it still succeeds
 }
