@@ -59,7 +59,7 @@ struct Model {
   // incident springs of each particle: entry = spring index, ~index (negative) when the particle is spring_b
   std::vector<Index> particle_spring_offset;  // (particle_count + 1)
   std::vector<Index> particle_spring_index;   // (2 * spring_count)
-  SpringLayout spring_layout = SpringLayout::two_phase;
+  SpringLayout spring_layout = SpringLayout::gather;  // default chosen by bench/spring_layout_bench.cpp
   // blocked layout (core/spring_chunks.h): chunks of consecutive springs, grouped into passes whose chunks touch
   // disjoint particle ranges, so one pass scatters into f in parallel without races (empty for other layouts)
   std::vector<Index> spring_chunk_offset;     // first spring of each chunk (chunk count + 1)
