@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/build_collision.h"
 #include "core/error.h"
 #include "core/grid.h"
 #include "core/topology.h"
@@ -194,6 +195,7 @@ Workspace make_workspace(const Model& model) {
     ws.stage_v.assign(model.particle_count, Vec3::Zero());
   }
   ws.normal.assign(model.particle_count, Vec3::Zero());
+  make_collision_workspace(model, ws.collision);
   return ws;
 }
 
