@@ -72,6 +72,10 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
       const Index prim = c.prim[slot];
       const PrimCorners t = corners(m, in, out, s, prim);
       if (t.cloth && (!self || t.p[0] == i || t.p[1] == i || t.p[2] == i)) return;
+      const Vec3& p = out.x[i];
+      const Vec3 tlo = t.x1[0].cwiseMin(t.x1[1]).cwiseMin(t.x1[2]), thi = t.x1[0].cwiseMax(t.x1[1]).cwiseMax(t.x1[2]);
+      if (((p.array() + h + own_motion) < tlo.array()).any() || ((p.array() - h - own_motion) > thi.array()).any())
+        return;
       TriangleProximity px;
       if (!vertex_triangle_proximity(out.x[i], t.x1[0], t.x1[1], t.x1[2], h, px)) return;
       // The side is the one at the start of the step (one-sided for collider meshes: their normals point out).
@@ -100,6 +104,9 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
         if (f <= e || c.edge_first_tri[f] != prim) continue;
         const Index fa = c.edge_a[f], fb = c.edge_b[f];
         if (fa == a || fa == b || fb == a || fb == b) continue;
+        // Cheap reject before the closest points: the end-of-step boxes must come within h.
+        const Aabb ea = swept_box(out.x[a], out.x[b]), eb = swept_box(out.x[fa], out.x[fb]);
+        if (((ea.lo.array() - h) > eb.hi.array()).any() || ((eb.lo.array() - h) > ea.hi.array()).any()) continue;
         EdgeProximity px;
         if (!edge_edge_proximity(out.x[a], out.x[b], out.x[fa], out.x[fb], px) || px.d >= h) continue;
         EdgeProximity start;
