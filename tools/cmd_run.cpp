@@ -116,7 +116,7 @@ int cmd_run(int argc, char** argv) {
       status = exit_diverged;
       break;
     }
-    stats.frames.push_back({frame, max_spring_strain(model, state.x), kinetic_energy(model, state.v)});
+    stats.frames.push_back({frame, max_spring_strain(model, state.x), kinetic_energy(model, state.v), 0, {}, 0});
     if (model.collision.enabled && args.has("--stats")) add_collision_stats(model, state, ws, stats.frames.back());
     if (frame < frames.first) continue;
     const auto w0 = std::chrono::steady_clock::now();
