@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "systems/bvh.h"
+#include "systems/ccd.h"
 #include "systems/collision_response.h"
 #include "systems/parallel.h"
 #include "systems/proximity.h"
@@ -162,6 +163,13 @@ void collide_analytic(const Model& m, State& out, CollisionScratch& s, Real h) {
   });
 }
 
+void clear_accumulators(const Model& m, CollisionScratch& s) {
+  parallel_over(m.particle_count, particle_grain, [&](Index i) {
+    s.acc_count[i] = 0;
+    for (int k = 0; k < 3; ++k) s.acc_dv[3 * std::size_t(i) + k] = s.acc_dx[3 * std::size_t(i) + k] = 0;
+  });
+}
+
 std::int64_t apply_accumulated(const Model& m, State& out, CollisionScratch& s) {
   parallel_over(m.particle_count, particle_grain, [&](Index i) {
     const std::int32_t n = s.acc_count[i];
@@ -179,6 +187,49 @@ std::int64_t apply_accumulated(const Model& m, State& out, CollisionScratch& s) 
         return sum;
       },
       [](std::int64_t a, std::int64_t b) { return a + b; });
+}
+
+// The continuous pass, last (Bridson et al. 2002 §6.2): each cloth vertex against the triangles its swept box
+// meets, along the step's linear trajectories; a hit is sent back to the side the vertex came from (for collider
+// meshes, only hits from the outside count: they are one-sided).
+std::int64_t collide_continuous(const Model& m, const State& in, State& out, CollisionScratch& s, BroadMode mode,
+                                Real h) {
+  const CollisionModel& c = m.collision;
+  clear_accumulators(m, s);
+  parallel_over(m.particle_count, contact_grain, [&](Index i) {
+    const Real thick = m.particle_thickness[i];
+    const bool self = c.self_collision && m.cloths[c.particle_cloth[i]].self_collision;
+    const Aabb q = swept_box(in.x[i], out.x[i]);
+    for_each_candidate(m, s, mode, q, [&](Index slot) {
+      const Index prim = c.prim[slot];
+      const PrimCorners t = corners(m, in, out, s, prim);
+      if (t.cloth && (!self || t.p[0] == i || t.p[1] == i || t.p[2] == i)) return;
+      if (!t.cloth && m.particle_inv_mass[i] == 0) return;
+      const Vec3 x0[4] = {in.x[i], t.x0[0], t.x0[1], t.x0[2]}, x1[4] = {out.x[i], t.x1[0], t.x1[1], t.x1[2]};
+      Real when;
+      TriangleProximity px;
+      if (!vertex_triangle_ccd(x0, x1, thick, when, px)) return;
+      const Real start = (x0[2] - x0[1]).cross(x0[3] - x0[1]).dot(x0[0] - x0[1]);
+      if (!t.cloth && !(start > 0)) return;
+      const Vec3 n = (start < 0 ? -1.0 : 1.0) * (x1[2] - x1[1]).cross(x1[3] - x1[1]).normalized();
+      const Real d = n.dot(x1[0] - x1[1]);
+      if (!std::isfinite(d) || d >= thick) return;
+      const Real mu = mean_friction(m, i, prim);
+      if (!t.cloth) {
+        Vec3 v_col = Vec3::Zero();
+        for (int k = 0; k < 3; ++k) v_col += px.w[k] * (t.x1[k] - t.x0[k]) / h;
+        const Vec3 dv = collider_velocity_change(out.v[i], v_col, n, m.cloths[c.particle_cloth[i]].restitution, mu);
+        accumulate_contact(s, i, dv, collider_position_change(dv, n, d, thick, h));
+        return;
+      }
+      const Index p[4] = {i, t.p[0], t.p[1], t.p[2]};
+      const Real wt[4] = {1, -px.w[0], -px.w[1], -px.w[2]};
+      Vec3 dv[4];
+      if (!cloth_impulse(p, wt, 4, m, out.v, n, d, thick, mu, h, dv, true)) return;
+      for (int k = 0; k < 4; ++k) accumulate_contact(s, p[k], dv[k], h * dv[k]);
+    });
+  });
+  return apply_accumulated(m, out, s);
 }
 
 }  // namespace
@@ -238,10 +289,7 @@ void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h)
   const BroadMode mode = c.broad_phase == BroadPhase::bvh ? BroadMode::bvh : BroadMode::hash;
 
   for (int iter = 0; iter < c.iterations; ++iter) {
-    parallel_over(m.particle_count, particle_grain, [&](Index i) {
-      s.acc_count[i] = 0;
-      for (int k = 0; k < 3; ++k) s.acc_dv[3 * std::size_t(i) + k] = s.acc_dx[3 * std::size_t(i) + k] = 0;
-    });
+    clear_accumulators(m, s);
     collide_analytic(m, out, s, h);
     if (broad) {
       for_each_proximity(
@@ -276,6 +324,7 @@ void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h)
     if (iter == 0) s.contacts_found += found;
     if (found == 0) break;
   }
+  if (broad && c.iterations > 0) collide_continuous(m, in, out, s, mode, h);
   ws.seconds_collide += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 

@@ -52,9 +52,11 @@ inline Vec3 collider_position_change(const Vec3& dv, const Vec3& n, Real d, Real
 // n pointing the way that relative velocity must grow): an inelastic impulse that stops the approach, a gentle
 // repulsion 0.1 (h - d)/dt while closer than h, and Coulomb friction. The impulse J satisfies
 // sum wt_i^2 inv_m_i J = required change; with equal masses this is Bridson et al.'s 2I/(1 + sum w^2) scaling
-// (§7.1). Returns false when no change is needed.
+// (§7.1). `restore` (the continuous pass): instead, the change that brings the end-of-step distance d back to
+// the thickness. Returns false when no change is needed.
 inline bool cloth_impulse(const Index* p, const Real* wt, int count, const Model& m, const std::vector<Vec3>& v,
-                          const Vec3& n, Real d, Real thickness, Real mu, Real h, Vec3* dv_out) {
+                          const Vec3& n, Real d, Real thickness, Real mu, Real h, Vec3* dv_out,
+                          bool restore = false) {
   Vec3 rel = Vec3::Zero();
   Real denom = 0;
   for (int k = 0; k < count; ++k) {
@@ -63,7 +65,8 @@ inline bool cloth_impulse(const Index* p, const Real* wt, int count, const Model
   }
   if (!(denom > 0)) return false;
   const Real vn = rel.dot(n);
-  const Real dvn = std::max(Real(0), Real(0.1) * (thickness - d) / h - vn);
+  const Real dvn = restore ? std::max(Real(0), (thickness - d) / h)
+                           : std::max(Real(0), Real(0.1) * (thickness - d) / h - vn);
   if (!(dvn > 0)) return false;
   const Vec3 vt = rel - vn * n;
   const Real vt_len = vt.norm();
