@@ -163,6 +163,26 @@ void collide_analytic(const Model& m, State& out, CollisionScratch& s, Real h) {
   });
 }
 
+// One vertex-triangle contact, normal n towards the vertex's side, end-of-step distance d: the collider response
+// for a collider triangle, the cloth impulse for a cloth one (`restore`: the continuous pass's full correction).
+void respond_vertex_triangle(const Model& m, const State& out, CollisionScratch& s, Index i, Index prim,
+                             const PrimCorners& t, const Real* w, const Vec3& n, Real d, Real h, bool restore) {
+  const Real thick = m.particle_thickness[i];
+  const Real mu = mean_friction(m, i, prim);
+  if (!t.cloth) {
+    Vec3 v_col = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) v_col += w[k] * (t.x1[k] - t.x0[k]) / h;
+    const Vec3 dv = collider_velocity_change(out.v[i], v_col, n, m.cloths[m.collision.particle_cloth[i]].restitution, mu);
+    accumulate_contact(s, i, dv, collider_position_change(dv, n, d, thick, h));
+    return;
+  }
+  const Index p[4] = {i, t.p[0], t.p[1], t.p[2]};
+  const Real wt[4] = {1, -w[0], -w[1], -w[2]};
+  Vec3 dv[4];
+  if (!cloth_impulse(p, wt, 4, m, out.v, n, d, thick, mu, h, dv, restore)) return;
+  for (int k = 0; k < 4; ++k) accumulate_contact(s, p[k], dv[k], h * dv[k]);
+}
+
 void clear_accumulators(const Model& m, CollisionScratch& s) {
   parallel_over(m.particle_count, particle_grain, [&](Index i) {
     s.acc_count[i] = 0;
@@ -214,19 +234,7 @@ std::int64_t collide_continuous(const Model& m, const State& in, State& out, Col
       const Vec3 n = (start < 0 ? -1.0 : 1.0) * (x1[2] - x1[1]).cross(x1[3] - x1[1]).normalized();
       const Real d = n.dot(x1[0] - x1[1]);
       if (!std::isfinite(d) || d >= thick) return;
-      const Real mu = mean_friction(m, i, prim);
-      if (!t.cloth) {
-        Vec3 v_col = Vec3::Zero();
-        for (int k = 0; k < 3; ++k) v_col += px.w[k] * (t.x1[k] - t.x0[k]) / h;
-        const Vec3 dv = collider_velocity_change(out.v[i], v_col, n, m.cloths[c.particle_cloth[i]].restitution, mu);
-        accumulate_contact(s, i, dv, collider_position_change(dv, n, d, thick, h));
-        return;
-      }
-      const Index p[4] = {i, t.p[0], t.p[1], t.p[2]};
-      const Real wt[4] = {1, -px.w[0], -px.w[1], -px.w[2]};
-      Vec3 dv[4];
-      if (!cloth_impulse(p, wt, 4, m, out.v, n, d, thick, mu, h, dv, true)) return;
-      for (int k = 0; k < 4; ++k) accumulate_contact(s, p[k], dv[k], h * dv[k]);
+      respond_vertex_triangle(m, out, s, i, prim, t, px.w, n, d, h, true);
     });
   });
   return apply_accumulated(m, out, s);
@@ -295,21 +303,8 @@ void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h)
       for_each_proximity(
           m, in, out, s, mode,
           [&](Index i, Index prim, const PrimCorners& t, const TriangleProximity& px, Real d) {
-            const Real thick = m.particle_thickness[i];
-            const Real mu = mean_friction(m, i, prim);
-            if (!t.cloth) {
-              if (m.particle_inv_mass[i] == 0) return;
-              Vec3 v_col = Vec3::Zero();
-              for (int k = 0; k < 3; ++k) v_col += px.w[k] * (t.x1[k] - t.x0[k]) / h;
-              const Vec3 dv = collider_velocity_change(out.v[i], v_col, px.n, m.cloths[c.particle_cloth[i]].restitution, mu);
-              accumulate_contact(s, i, dv, collider_position_change(dv, px.n, d, thick, h));
-              return;
-            }
-            const Index p[4] = {i, t.p[0], t.p[1], t.p[2]};
-            const Real wt[4] = {1, -px.w[0], -px.w[1], -px.w[2]};
-            Vec3 dv[4];
-            if (!cloth_impulse(p, wt, 4, m, out.v, px.n, d, thick, mu, h, dv)) return;
-            for (int k = 0; k < 4; ++k) accumulate_contact(s, p[k], dv[k], h * dv[k]);
+            if (!t.cloth && m.particle_inv_mass[i] == 0) return;
+            respond_vertex_triangle(m, out, s, i, prim, t, px.w, px.n, d, h, false);
           },
           [&](Index e, Index f, const EdgeProximity& px, Real d) {
             const Index p[4] = {c.edge_a[e], c.edge_b[e], c.edge_a[f], c.edge_b[f]};
