@@ -11,7 +11,13 @@ bl_info = {
     "category": "Physics",
 }
 
-from . import operators, panels, properties
+try:
+    import numpy  # noqa: F401 (Blender's own builds bundle it; Debian's blender needs python3-numpy)
+except ImportError as e:
+    raise ImportError("the clothsim add-on needs numpy to read and write large frame sequences quickly; on "
+                      "Debian: apt-get install python3-numpy") from e
+
+from . import operators, panels, properties  # noqa: E402
 
 _modules = (properties, operators, panels)
 

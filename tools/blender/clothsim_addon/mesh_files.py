@@ -53,7 +53,8 @@ PC2_HEADER = struct.Struct("<12siiffi")  # magic, version, points, start frame, 
 def write_pc2(path, frames, start_frame):
     """frames: (samples, points, 3) positions in object space. PC2 is the point-cache format Blender's Mesh
     Cache modifier streams from disk, one frame at a time."""
-    frames = np.ascontiguousarray(frames, dtype="<f4")
+    with np.errstate(over="ignore"):  # the last frames before a divergence may exceed float32: inf, as they are
+        frames = np.ascontiguousarray(frames, dtype="<f4")
     samples, points, _ = frames.shape
     tmp = path + ".tmp"
     with open(tmp, "wb") as f:

@@ -8,6 +8,7 @@ in the .blend and Blender walks the key list on each evaluation; a Python handle
 change and does not run where the add-on is absent."""
 import os
 
+import bpy
 import numpy as np
 
 from . import mesh_files
@@ -52,9 +53,9 @@ def attach_cache(obj, frames, start, cache_path):
     mod.deform_mode = "OVERWRITE"
     mod.interpolation = "NONE"
     # First in the stack: the simulation replaces the base mesh, later modifiers (subdivision) act on it.
-    while obj.modifiers[0] != mod:
-        idx = list(obj.modifiers).index(mod)
-        obj.modifiers.move(idx, idx - 1)
+    if obj.modifiers[0] != mod:
+        with bpy.context.temp_override(object=obj, active_object=obj):
+            bpy.ops.object.modifier_move_to_index(modifier=mod.name, index=0)
     obj.update_tag()
 
 

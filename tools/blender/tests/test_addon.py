@@ -19,10 +19,12 @@ sys.path.insert(0, os.path.dirname(HERE))  # tools/blender, which holds the clot
 
 import addon_utils  # noqa: E402
 
-from clothsim_addon import mesh_files  # noqa: E402
-
 argv = sys.argv[sys.argv.index("--") + 1:]
 BINARY, SCRATCH = os.path.abspath(argv[0]), os.path.abspath(argv[1])
+addon_utils.enable("clothsim_addon", default_set=True, handle_error=None)
+bpy.context.preferences.addons["clothsim_addon"].preferences.binary = BINARY
+
+from clothsim_addon import mesh_files  # noqa: E402
 FAILURES = []
 
 
@@ -59,6 +61,9 @@ def build_scene():
     group = cloth.vertex_groups.new(name="pins")
     group.add(corners, 1.0, "REPLACE")
     group.add([int(np.argmin(np.abs(co[:, 0]) + np.abs(co[:, 1])))], 0.2, "REPLACE")  # under the pin weight
+    # A modifier already on the object: the simulation must go under it, first in the stack.
+    subsurf = cloth.modifiers.new("Subdivision", "SUBSURF")
+    subsurf.levels = subsurf.render_levels = 0
     material = bpy.data.materials.new("Checker")
     cloth.data.materials.append(material)
     s = cloth.clothsim
@@ -146,8 +151,6 @@ def test_errors(cloth):
 def main():
     shutil.rmtree(SCRATCH, ignore_errors=True)
     os.makedirs(SCRATCH)
-    addon_utils.enable("clothsim_addon", default_set=True, handle_error=None)
-    bpy.context.preferences.addons["clothsim_addon"].preferences.binary = BINARY
     cloth, _sphere, corners = build_scene()
     test_simulate(cloth, corners)
     test_errors(cloth)
