@@ -120,7 +120,9 @@ def export_scene(scene):
         name = safe_name(obj.name, taken)
         obj_path = os.path.join(work_dir, name + ".obj")
         mesh_files.write_text_atomic(obj_path, mesh_obj_text(obj, name))
-        for old in glob.glob(os.path.join(glob.escape(frames_dir), glob.escape(name) + ".[0-9][0-9][0-9][0-9].obj")):
+        # Old frames, and temporary files of a run killed mid-write (clothsim writes NAME.obj.tmpPID, renames).
+        prefix = os.path.join(glob.escape(frames_dir), glob.escape(name))
+        for old in glob.glob(prefix + ".[0-9][0-9][0-9][0-9].obj") + glob.glob(prefix + ".[0-9][0-9][0-9][0-9].obj.tmp*"):
             os.remove(old)
         s = obj.clothsim
         specs.append(scene_xml.ClothSpec(

@@ -10,6 +10,7 @@ import math
 import os
 import shutil
 import sys
+import time
 
 import bpy
 import numpy as np
@@ -24,7 +25,7 @@ BINARY, SCRATCH = os.path.abspath(argv[0]), os.path.abspath(argv[1])
 addon_utils.enable("clothsim_addon", default_set=True, handle_error=None)
 bpy.context.preferences.addons["clothsim_addon"].preferences.binary = BINARY
 
-from clothsim_addon import mesh_files  # noqa: E402
+from clothsim_addon import mesh_files, runner  # noqa: E402
 FAILURES = []
 
 
@@ -148,12 +149,33 @@ def test_errors(cloth):
     cloth.clothsim.stiffness, scene.clothsim.timestep = stiffness, timestep
 
 
+def test_cancel(cloth):
+    """The background job reports progress from clothsim's stderr and stops on cancel, leaving whole frames."""
+    scene = bpy.context.scene
+    scene.frame_end, scene.clothsim.timestep = 2000, 0.00005  # some 20 s of work: cancelled long before
+    check(bpy.ops.clothsim.write_scene() == {"FINISHED"}, "Write Scene")
+    job = runner.ClothsimJob(BINARY, os.path.join(SCRATCH, "cache", "scene.xml"), threads=1)
+    while job.poll() is None and job.progress()[0] < 3:
+        time.sleep(0.01)
+    done, total = job.progress()
+    check(total == 2000 and done >= 3, f"progress read from clothsim's stderr ({done}/{total})")
+    job.cancel()
+    check(job.poll() not in (None, 0), f"cancel stopped clothsim (exit {job.poll()})")
+    frames_dir = os.path.join(SCRATCH, "cache", "frames")
+    written = sorted(f for f in os.listdir(frames_dir) if f.startswith("Sheet.") and f.endswith(".obj"))
+    check(3 <= len(written) < 2000, f"cancelled early ({len(written)} frames written)")
+    sizes = {len(mesh_files.read_obj_positions(os.path.join(frames_dir, f))) for f in written}
+    check(sizes == {len(cloth.data.vertices)}, f"every frame left is whole ({sizes} vertices)")
+    scene.frame_end, scene.clothsim.timestep = 12, 0.001
+
+
 def main():
     shutil.rmtree(SCRATCH, ignore_errors=True)
     os.makedirs(SCRATCH)
     cloth, _sphere, corners = build_scene()
     test_simulate(cloth, corners)
     test_errors(cloth)
+    test_cancel(cloth)
     print(f"{len(FAILURES)} failure(s)")
     sys.exit(1 if FAILURES else 0)
 
