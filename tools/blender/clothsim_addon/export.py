@@ -26,7 +26,7 @@ class ExportedScene:
     start_frame: int
     end_frame: int
     cloths: list
-    skipped_colliders: list
+    skipped_colliders: list  # the scene parser on main has no collider element yet (issues 3 and 5)
 
 
 def work_dir_of(scene):
@@ -34,6 +34,10 @@ def work_dir_of(scene):
     if path.startswith("//") and not bpy.data.filepath:
         return os.path.join(tempfile.gettempdir(), "clothsim_" + re.sub(r"\W", "_", scene.name))
     return os.path.abspath(bpy.path.abspath(path))
+
+
+def frames_dir_of(work_dir):
+    return os.path.join(work_dir, "frames")
 
 
 def safe_name(name, taken):
@@ -44,6 +48,13 @@ def safe_name(name, taken):
         out = f"{base}_{k}"
     taken.add(out)
     return out
+
+
+def cloth_objects(scene):
+    """(object, file name) of every cloth, in a fixed order, so that a later Load Result finds the same files."""
+    taken = set()
+    return [(obj, safe_name(obj.name, taken)) for obj in scene.objects
+            if obj.type == "MESH" and obj.clothsim.role == "CLOTH"]
 
 
 def world_positions(obj):
@@ -104,20 +115,11 @@ def export_scene(scene):
     """Writes <cache>/scene.xml and a mesh per cloth; removes the cloth's old frames so none is mistaken for a
     result of this run."""
     work_dir = work_dir_of(scene)
-    frames_dir = os.path.join(work_dir, "frames")
+    frames_dir = frames_dir_of(work_dir)
     os.makedirs(frames_dir, exist_ok=True)
-    taken, specs, exported, colliders = set(), [], [], []
-    for obj in scene.objects:
-        if obj.type != "MESH":
-            continue
-        role = obj.clothsim.role
-        if role == "COLLIDER":
-            # The scene parser on main has no collider element yet (issues 3 and 5); see docs/blender.md.
-            colliders.append(obj.name)
-            continue
-        if role != "CLOTH":
-            continue
-        name = safe_name(obj.name, taken)
+    specs, exported = [], []
+    colliders = [o.name for o in scene.objects if o.type == "MESH" and o.clothsim.role == "COLLIDER"]
+    for obj, name in cloth_objects(scene):
         obj_path = os.path.join(work_dir, name + ".obj")
         mesh_files.write_text_atomic(obj_path, mesh_obj_text(obj, name))
         # Old frames, and temporary files of a run killed mid-write (clothsim writes NAME.obj.tmpPID, renames).

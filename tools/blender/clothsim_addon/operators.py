@@ -138,16 +138,14 @@ class CLOTHSIM_OT_load(bpy.types.Operator):
         scene = context.scene
         work_dir = export.work_dir_of(scene)
         start, end = export.frame_range(scene)
-        loaded, taken = [], set()
-        for obj in scene.objects:
-            if obj.type == "MESH" and obj.clothsim.role == "CLOTH":
-                name = export.safe_name(obj.name, taken)
-                try:
-                    n = result.load_result(obj, work_dir + "/frames", name, start, end, work_dir)
-                except ValueError as e:
-                    self.report({"ERROR"}, f"clothsim: {e}")
-                    return {"CANCELLED"}
-                loaded.append(f"{obj.name}: {n} frames")
+        loaded = []
+        for obj, name in export.cloth_objects(scene):
+            try:
+                n = result.load_result(obj, export.frames_dir_of(work_dir), name, start, end, work_dir)
+            except ValueError as e:
+                self.report({"ERROR"}, f"clothsim: {e}")
+                return {"CANCELLED"}
+            loaded.append(f"{obj.name}: {n} frames")
         self.report({"INFO"}, "clothsim: " + (", ".join(loaded) or "no cloth object"))
         return {"FINISHED"}
 

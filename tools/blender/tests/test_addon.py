@@ -122,6 +122,14 @@ def test_simulate(cloth, corners):
     check(uv.shape == uv0.shape and np.array_equal(uv, uv0), "UVs kept")
     check(mesh.materials[0] is not None and mesh.materials[0].name == "Checker", "material kept")
 
+    # Load Result brings the same frames back from the cache folder, without simulating.
+    cloth.modifiers.remove(cloth.modifiers["clothsim"])
+    check(bpy.ops.clothsim.load() == {"FINISHED"}, "Load Result")
+    bpy.context.scene.frame_set(8)
+    want = mesh_files.read_obj_positions(mesh_files.frame_path(frames_dir, "Sheet", 8))
+    err = np.abs(evaluated_world_positions(cloth) - want).max()
+    check(cloth.modifiers[0].name == "clothsim" and err < 1e-6, f"Load Result: frame 8 again ({err:.2e} m)")
+
     # The scene has the pins of weight >= 0.5 only.
     text = open(os.path.join(SCRATCH, "cache", "scene.xml")).read()
     check(f'<pins vertices="{corners[0]} {corners[1]}"/>' in text, "pins exported from the vertex group")
