@@ -4,8 +4,13 @@ import bpy
 from . import operators
 
 
-class CLOTHSIM_PT_object(bpy.types.Panel):
-    bl_label = "clothsim"
+def props(layout, data, *names):
+    for name in names:
+        layout.prop(data, name)
+
+
+class PhysicsTabPanel:
+    """Where both panels live: Properties editor > Physics, for mesh objects."""
     bl_space_type = "PROPERTIES"
     bl_region_type = "WINDOW"
     bl_context = "physics"
@@ -13,6 +18,10 @@ class CLOTHSIM_PT_object(bpy.types.Panel):
     @classmethod
     def poll(cls, context):
         return context.object is not None and context.object.type == "MESH"
+
+
+class CLOTHSIM_PT_object(PhysicsTabPanel, bpy.types.Panel):
+    bl_label = "clothsim"
 
     def draw(self, context):
         layout = self.layout
@@ -24,13 +33,8 @@ class CLOTHSIM_PT_object(bpy.types.Panel):
             return
         col = layout.column()
         if s.role == "CLOTH":
-            col.prop(s, "density")
-            col.prop(s, "stiffness")
-            col.prop(s, "bend")
-            col.prop(s, "damping")
-            col.prop(s, "thickness")
-        col.prop(s, "friction")
-        col.prop(s, "restitution")
+            props(col, s, "density", "stiffness", "bend", "damping", "thickness")
+        props(col, s, "friction", "restitution")
         if s.role == "CLOTH":
             col.prop(s, "self_collision")
             col.prop_search(s, "pin_group", obj, "vertex_groups")
@@ -41,35 +45,21 @@ class CLOTHSIM_PT_object(bpy.types.Panel):
             col.label(text="Colliders are exported once the scene format has them", icon="INFO")
 
 
-class CLOTHSIM_PT_run(bpy.types.Panel):
+class CLOTHSIM_PT_run(PhysicsTabPanel, bpy.types.Panel):
     bl_label = "clothsim run"
-    bl_space_type = "PROPERTIES"
-    bl_region_type = "WINDOW"
-    bl_context = "physics"
-
-    @classmethod
-    def poll(cls, context):
-        return context.object is not None and context.object.type == "MESH"
 
     def draw(self, context):
         layout = self.layout
         layout.use_property_split = True
         s = context.scene.clothsim
         col = layout.column()
-        col.prop(s, "integrator")
-        col.prop(s, "timestep")
-        col.prop(s, "use_scene_range")
+        props(col, s, "integrator", "timestep", "use_scene_range")
         if not s.use_scene_range:
-            col.prop(s, "frame_start")
-            col.prop(s, "frame_end")
+            props(col, s, "frame_start", "frame_end")
         col.prop(s, "use_scene_gravity")
         if not s.use_scene_gravity:
             col.prop(s, "gravity")
-        col.prop(s, "wind_velocity")
-        col.prop(s, "wind_strength")
-        col.prop(s, "air_damping")
-        col.prop(s, "cache_dir")
-        col.prop(s, "threads")
+        props(col, s, "wind_velocity", "wind_strength", "air_damping", "cache_dir", "threads")
         row = layout.row(align=True)
         if operators._active["job"] is None:
             row.operator("clothsim.simulate", icon="PLAY")

@@ -160,18 +160,18 @@ def test_errors(cloth):
 def test_cancel(cloth):
     """The background job reports progress from clothsim's stderr and stops on cancel, leaving whole frames."""
     scene = bpy.context.scene
-    scene.frame_end, scene.clothsim.timestep = 2000, 0.00005  # some 20 s of work: cancelled long before
+    scene.frame_end, scene.clothsim.timestep = 2000, 0.0001  # some 10 s of work: cancelled long before
     check(bpy.ops.clothsim.write_scene() == {"FINISHED"}, "Write Scene")
     job = runner.ClothsimJob(BINARY, os.path.join(SCRATCH, "cache", "scene.xml"), threads=1)
-    while job.poll() is None and job.progress()[0] < 3:
+    while job.poll() is None and job.progress()[0] < 2:
         time.sleep(0.01)
     done, total = job.progress()
-    check(total == 2000 and done >= 3, f"progress read from clothsim's stderr ({done}/{total})")
+    check(total == 2000 and done >= 2, f"progress read from clothsim's stderr ({done}/{total})")
     job.cancel()
     check(job.poll() not in (None, 0), f"cancel stopped clothsim (exit {job.poll()})")
     frames_dir = os.path.join(SCRATCH, "cache", "frames")
     written = sorted(f for f in os.listdir(frames_dir) if f.startswith("Sheet.") and f.endswith(".obj"))
-    check(3 <= len(written) < 2000, f"cancelled early ({len(written)} frames written)")
+    check(2 <= len(written) < 2000, f"cancelled early ({len(written)} frames written)")
     sizes = {len(mesh_files.read_obj_positions(os.path.join(frames_dir, f))) for f in written}
     check(sizes == {len(cloth.data.vertices)}, f"every frame left is whole ({sizes} vertices)")
     scene.frame_end, scene.clothsim.timestep = 12, 0.001
