@@ -42,8 +42,9 @@ class SceneSpec:
 
 
 def _num(x: float) -> str:
-    # repr gives the shortest text that reads back as the same double, so nothing is lost on the way.
-    return repr(float(x))
+    # Blender keeps its properties in float32: 7 significant digits give back what was typed (0.15, not
+    # 0.150000006), and float32 holds no more than that anyway.
+    return f"{float(x):.7g}"
 
 
 def _vec(v: Sequence[float]) -> str:

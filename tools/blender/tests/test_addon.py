@@ -83,6 +83,7 @@ def build_scene():
     run.integrator = "symplectic"
     run.timestep = 0.001
     run.threads = 2
+    run.wind_velocity, run.wind_strength, run.air_damping = (0.5, 0.0, 0.0), 0.1, 0.05
     run.cache_dir = os.path.join(SCRATCH, "cache")
     return cloth, sphere, corners
 
@@ -133,6 +134,9 @@ def test_simulate(cloth, corners):
     # The scene has the pins of weight >= 0.5 only.
     text = open(os.path.join(SCRATCH, "cache", "scene.xml")).read()
     check(f'<pins vertices="{corners[0]} {corners[1]}"/>' in text, "pins exported from the vertex group")
+    for element in ('<density value="0.2"/>', '<stiffness value="400" bend="0.2"/>', '<thickness value="0.004"/>',
+                    'gravity="0 0 -9.81"', '<wind velocity="0.5 0 0" strength="0.1"/>', '<airDamping value="0.05"/>'):
+        check(element in text, f"scene has {element}")
 
 
 def expect_error(what, needle):
