@@ -62,12 +62,3 @@ def write_pc2(path, frames, start_frame):
         f.write(frames.tobytes())
     os.replace(tmp, path)
 
-
-def read_pc2(path):
-    """(start_frame, frames (samples, points, 3) float32) of a PC2 file."""
-    with open(path, "rb") as f:
-        magic, _version, points, start, _rate, samples = PC2_HEADER.unpack(f.read(PC2_HEADER.size))
-        if magic != b"POINTCACHE2\0":
-            raise ValueError(f"{path}: not a PC2 file")
-        data = np.frombuffer(f.read(), dtype="<f4")
-    return start, data.reshape(samples, points, 3)
