@@ -19,6 +19,7 @@ struct SimulationDesc {
   Integrator integrator = Integrator::symplectic;
   Vec3 gravity{0, -9.81, 0};   // m/s^2
   int collision_iterations = 2;
+  int checkpoint_every = 0;    // frames between checkpoints (and one at the end); 0: none (io/checkpoint.h)
 };
 
 struct RandomForceDesc {

@@ -136,7 +136,8 @@ std::string resolve(const std::string& base, const std::string& p) {
 
 void read_simulation(const std::string& file, const std::string& text, pugi::xml_node n, SimulationDesc& sim) {
   ElementReader r(file, text, n,
-                  {"timestep", "fps", "startFrame", "endFrame", "integrator", "gravity", "collisionIterations"});
+                  {"timestep", "fps", "startFrame", "endFrame", "integrator", "gravity", "collisionIterations",
+                   "checkpointEvery"});
   sim.timestep = r.positive("timestep", sim.timestep, "s");
   sim.fps = r.positive("fps", sim.fps, "frames per second");
   sim.start_frame = r.integer("startFrame", sim.start_frame);
@@ -154,6 +155,8 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
   sim.gravity = r.vec3("gravity", sim.gravity);
   sim.collision_iterations = r.integer("collisionIterations", sim.collision_iterations);
   if (sim.collision_iterations < 0) r.bad("collisionIterations", "an integer >= 0");
+  sim.checkpoint_every = r.integer("checkpointEvery", sim.checkpoint_every);
+  if (sim.checkpoint_every < 0) r.bad("checkpointEvery", "a number of frames >= 0 (0: no checkpoints)");
 }
 
 void read_forces(const std::string& file, const std::string& text, pugi::xml_node n, ForcesDesc& f) {
