@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "io/text_file.h"
 
 namespace clothsim::io {
@@ -203,8 +204,9 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
     if (r.has("size")) r.fail("size applies to grid cloths only; use scale for an OBJ");
   } else {
     const auto g = r.numbers("grid", 2, "two integers \"NX NY\", each >= 2");
-    if (g[0] != std::floor(g[0]) || g[1] != std::floor(g[1]) || g[0] < 2 || g[1] < 2 || g[0] * g[1] > 1e8)
-      r.bad("grid", "two integers \"NX NY\", each >= 2");
+    if (g[0] != std::floor(g[0]) || g[1] != std::floor(g[1]) || g[0] < 2 || g[1] < 2 ||
+        g[0] * g[1] > double(limits::max_mesh_vertices))
+      r.bad("grid", "two integers \"NX NY\", each >= 2, with NX * NY <= " + std::to_string(limits::max_mesh_vertices));
     c.grid_nx = int(g[0]);
     c.grid_ny = int(g[1]);
     if (r.has("size")) {
