@@ -14,6 +14,7 @@
 #include "io/atomic_file.h"
 #include "io/json_writer.h"
 #include "tools/batch_list.h"
+#include "tools/batch_mpi.h"
 #include "tools/cli_args.h"
 #include "tools/commands.h"
 #include "tools/scene_process.h"
@@ -32,6 +33,8 @@ const char* batch_help =
     "  --quiet               no progress on stderr\n"
     "A scene that fails is reported and skipped. Running the same batch again skips completed scenes and resumes\n"
     "interrupted ones from their checkpoints.\n"
+    "Under mpirun or srun (when built with MPI), rank 0 hands the scenes out one at a time to the other ranks,\n"
+    "each running one scene at a time with M threads (--jobs is ignored); --out must be a shared folder.\n"
     "Exit codes: 0 every scene done, 1 some scene failed, 2 bad list or options.";
 
 constexpr int exit_scene_failed = 1;
@@ -104,50 +107,10 @@ std::string format_summary_json(const std::vector<BatchScene>& scenes, double wa
   return j.str() + "\n";
 }
 
-void print_summary(const std::vector<BatchScene>& scenes) {
-  std::size_t width = 5;
-  for (const BatchScene& s : scenes) width = std::max(width, s.scene.size());
-  std::printf("%-*s %7s %9s  %-10s %s\n", int(width), "scene", "frames", "wall s", "status", "message");
-  for (const BatchScene& s : scenes)
-    std::printf("%-*s %7d %9.2f  %-10s %s\n", int(width), s.scene.c_str(), s.frames, s.wall_seconds,
-                s.status.c_str(), s.message.c_str());
-}
-
-}  // namespace
-
-int cmd_batch(int argc, char** argv) {
-  const auto wall0 = std::chrono::steady_clock::now();
-  const Args args =
-      parse_args(argc, argv, {"--jobs", "--threads-per-job", "--out", "--checkpoint-every"}, {"--quiet"});
-  if (args.help) { std::puts(batch_help); return exit_ok; }
-  if (args.positional.size() != 1) throw UsageError("expected one list file or folder of scenes");
-  const int jobs = args.has("--jobs") ? parse_int("--jobs", args.get("--jobs"), 1) : 1;
-  const int cores = std::max(1, int(std::thread::hardware_concurrency()));
-  const int threads = args.has("--threads-per-job") ? parse_int("--threads-per-job", args.get("--threads-per-job"), 1)
-                                                    : std::max(1, cores / jobs);
-  const int checkpoint_every =
-      args.has("--checkpoint-every") ? parse_int("--checkpoint-every", args.get("--checkpoint-every"), 0) : 10;
-  const std::string out = args.get("--out", "batch_out");
-  io::ensure_writable_dir(out);
-
-  std::vector<BatchScene> scenes = read_batch_list(args.positional[0], out);
-  BatchProgress progress(scenes, args.has("--quiet"));
-
-  // Completed scenes (marker left by an earlier batch) are skipped; the rest run `jobs` at a time.
-  std::vector<std::size_t> queue;
-  for (std::size_t i = 0; i < scenes.size(); ++i) {
-    if (std::filesystem::exists(batch_done_marker(scenes[i]))) {
-      scenes[i].status = "complete";
-      scenes[i].exit_code = 0;
-      scenes[i].frames = scenes[i].total_frames;
-      scenes[i].message = "done by an earlier batch";
-      progress.scene_done(scenes[i], false);
-    } else {
-      queue.push_back(i);
-    }
-  }
+// Runs `queue` (indices into `scenes`) `jobs` at a time on this machine.
+void run_local(std::vector<BatchScene>& scenes, std::vector<std::size_t> queue, int jobs, int threads,
+               int checkpoint_every, BatchProgress& progress) {
   std::reverse(queue.begin(), queue.end());
-
   struct Running {
     std::size_t index;
     std::unique_ptr<SceneProcess> process;
@@ -182,6 +145,71 @@ int cmd_batch(int argc, char** argv) {
       in_flight += r.process->frames_done();
     }
     progress.update(in_flight);
+  }
+}
+
+// MPI_Finalize on every way out of cmd_batch once MPI is initialised.
+struct MpiSession {
+  bool on = false;
+  ~MpiSession() {
+    if (on) batch_mpi_finalize();
+  }
+};
+
+void print_summary(const std::vector<BatchScene>& scenes) {
+  std::size_t width = 5;
+  for (const BatchScene& s : scenes) width = std::max(width, s.scene.size());
+  std::printf("%-*s %7s %9s  %-10s %s\n", int(width), "scene", "frames", "wall s", "status", "message");
+  for (const BatchScene& s : scenes)
+    std::printf("%-*s %7d %9.2f  %-10s %s\n", int(width), s.scene.c_str(), s.frames, s.wall_seconds,
+                s.status.c_str(), s.message.c_str());
+}
+
+}  // namespace
+
+int cmd_batch(int argc, char** argv) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  const Args args =
+      parse_args(argc, argv, {"--jobs", "--threads-per-job", "--out", "--checkpoint-every"}, {"--quiet"});
+  if (args.help) { std::puts(batch_help); return exit_ok; }
+  if (args.positional.size() != 1) throw UsageError("expected one list file or folder of scenes");
+  const int jobs = args.has("--jobs") ? parse_int("--jobs", args.get("--jobs"), 1) : 1;
+  const int cores = std::max(1, int(std::thread::hardware_concurrency()));
+  const int threads = args.has("--threads-per-job") ? parse_int("--threads-per-job", args.get("--threads-per-job"), 1)
+                                                    : std::max(1, cores / jobs);
+  const int checkpoint_every =
+      args.has("--checkpoint-every") ? parse_int("--checkpoint-every", args.get("--checkpoint-every"), 0) : 10;
+  const std::string out = args.get("--out", "batch_out");
+  MpiSession mpi;
+  int rank = 0;
+  mpi.on = batch_mpi_start(rank);
+  io::ensure_writable_dir(out);
+
+  std::vector<BatchScene> scenes = read_batch_list(args.positional[0], out);
+  if (mpi.on && rank != 0) {  // a worker: runs what rank 0 hands it
+    batch_mpi_run(scenes, {}, threads, checkpoint_every, {});
+    return exit_ok;
+  }
+  BatchProgress progress(scenes, args.has("--quiet"));
+
+  // Completed scenes (marker left by an earlier batch) are skipped; the rest run `jobs` at a time.
+  std::vector<std::size_t> queue;
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    if (std::filesystem::exists(batch_done_marker(scenes[i]))) {
+      scenes[i].status = "complete";
+      scenes[i].exit_code = 0;
+      scenes[i].frames = scenes[i].total_frames;
+      scenes[i].message = "done by an earlier batch";
+      progress.scene_done(scenes[i], false);
+    } else {
+      queue.push_back(i);
+    }
+  }
+  if (mpi.on) {
+    batch_mpi_run(scenes, queue, threads, checkpoint_every,
+                  [&](const BatchScene& s) { progress.scene_done(s, true); });
+  } else {
+    run_local(scenes, queue, jobs, threads, checkpoint_every, progress);
   }
   progress.finish();
 
