@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include "cli_harness.h"
+#include "shell_command.h"
 
 using namespace clothsim::test;
 namespace fs = std::filesystem;
@@ -25,20 +26,13 @@ TEST_CASE("an MPI batch over 3 ranks on loopback runs every scene and reports th
   REQUIRE(run_cli("run " + (dir / "s3.xml").string() + " --out " + (dir / "ref").string() + " --quiet").exit_code == 0);
 
   // LeakSanitizer (the sanitizer build) reports Open MPI's own allocations at exit; leaks are checked elsewhere.
-  const std::string cmd = "env ASAN_OPTIONS=detect_leaks=0 " CLOTHSIM_MPIEXEC
-                          " --oversubscribe --allow-run-as-root -np 3 " CLOTHSIM_BIN " batch " +
-                          (dir / "list.txt").string() + " --threads-per-job 1 --out " + (dir / "out").string() +
-                          " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  REQUIRE(p);
-  std::string output;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) output.append(buf, n);
-  const int status = pclose(p);
-  CAPTURE(output);
-  CHECK(WIFEXITED(status));
-  CHECK(WEXITSTATUS(status) != 0);  // a scene failed
+  const ShellResult r = run_shell("env ASAN_OPTIONS=detect_leaks=0 " CLOTHSIM_MPIEXEC
+                                  " --oversubscribe --allow-run-as-root -np 3 " CLOTHSIM_BIN " batch " +
+                                  (dir / "list.txt").string() + " --threads-per-job 1 --out " +
+                                  (dir / "out").string());
+  CAPTURE(r.output);
+  CHECK(WIFEXITED(r.status));
+  CHECK(WEXITSTATUS(r.status) != 0);  // a scene failed
   const std::string summary = read_text(dir / "out" / "summary.json");
   CAPTURE(summary);
   int ok = 0;

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "cli_harness.h"
+#include "shell_command.h"
 
 using namespace clothsim::test;
 namespace fs = std::filesystem;
@@ -161,21 +162,14 @@ TEST_CASE("a write refused by a file-size limit stops the run with exit code 2; 
   const auto first = fs::file_size(dir / "ref" / "sheet.0001.obj");
   const auto second = fs::file_size(dir / "ref" / "sheet.0002.obj");
   REQUIRE(first + 1024 < second);
-  // dash's ulimit -f counts 512-byte blocks: frame 1 fits, frame 2 does not.
-  const std::string cmd = "ulimit -f " + std::to_string((first + 1023) / 512) +
-                          " && exec " CLOTHSIM_BIN " run " + scene + " --out " + (dir / "out").string() + " 2>&1";
-  FILE* p = popen(("/bin/sh -c '" + cmd + "'").c_str(), "r");
-  REQUIRE(p);
-  std::string output;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) output.append(buf, n);
-  const int status = pclose(p);
-  CAPTURE(output);
-  REQUIRE(WIFEXITED(status));
-  CHECK(WEXITSTATUS(status) == 2);
-  CHECK(output.find("File too large") != std::string::npos);
-  CHECK(output.find("sheet.0002.obj") != std::string::npos);
+  // popen's /bin/sh is dash, whose ulimit -f counts 512-byte blocks: frame 1 fits, frame 2 does not.
+  const ShellResult r = run_shell("ulimit -f " + std::to_string((first + 1023) / 512) + " && exec " CLOTHSIM_BIN
+                                  " run " + scene + " --out " + (dir / "out").string());
+  CAPTURE(r.output);
+  REQUIRE(WIFEXITED(r.status));
+  CHECK(WEXITSTATUS(r.status) == 2);
+  CHECK(r.output.find("File too large") != std::string::npos);
+  CHECK(r.output.find("sheet.0002.obj") != std::string::npos);
   // Only whole frames are left, each identical to the reference; no temporary file remains.
   const auto written = files_in(dir / "out");
   CHECK(written == std::vector<std::string>{"sheet.0001.obj"});
