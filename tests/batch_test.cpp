@@ -18,7 +18,7 @@ std::string grid_scene(const std::string& simulation_extra, const std::string& c
 
 }  // namespace
 
-TEST_CASE("a batch runs every scene, reports the failing ones, and a re-run skips or resumes") {
+TEST_CASE("a batch runs every scene and reports the failing ones and a re-run skips or resumes") {
   const fs::path dir = scratch_dir("batch");
   fs::create_directories(dir / "sub");
   write_text(dir / "good.xml", grid_scene("", ""));
@@ -81,7 +81,7 @@ TEST_CASE("a batch runs every scene, reports the failing ones, and a re-run skip
   CHECK(fs::last_write_time(dir / "out" / "good" / "c.0006.obj") == stamp);
 }
 
-TEST_CASE("a batch of good scenes from a folder exits 0; a bad list exits 2") {
+TEST_CASE("a batch of good scenes from a folder exits 0 and a bad list exits 2") {
   const fs::path dir = scratch_dir("batch_folder");
   fs::create_directories(dir / "scenes");
   write_text(dir / "scenes" / "a.xml", grid_scene("", ""));

@@ -72,7 +72,7 @@ TEST_CASE("every truncation and every flipped byte of a checkpoint is detected")
   CHECK_THROWS_WITH_AS(io::decode_checkpoint("c.ckpt", longer), doctest::Contains("trailing bytes"), Error);
 }
 
-TEST_CASE("the newest valid checkpoint is found; a corrupted newer one is skipped with a warning") {
+TEST_CASE("the newest valid checkpoint is found and a corrupted newer one is skipped with a warning") {
   const auto dir = test::scratch_dir("checkpoint_find").string();
   for (int frame : {3, 6, 9}) io::write_checkpoint(dir, "scene", sample_checkpoint(4, frame));
   // keep = 2: the checkpoint of frame 3 was deleted when 9 was written

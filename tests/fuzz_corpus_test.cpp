@@ -36,14 +36,14 @@ void replay(const char* target, Fn fn, int expected_seeds) {
 
 }  // namespace
 
-TEST_CASE("the OBJ fuzz corpus: seeds are accepted, past crash inputs are refused cleanly") {
+TEST_CASE("the OBJ fuzz corpus: seeds are accepted and past crash inputs are refused cleanly") {
   replay("obj", clothsim::fuzz::fuzz_obj, 6);
 }
 
-TEST_CASE("the scene fuzz corpus: seeds are accepted, past crash inputs are refused cleanly") {
+TEST_CASE("the scene fuzz corpus: seeds are accepted and past crash inputs are refused cleanly") {
   replay("scene", clothsim::fuzz::fuzz_scene, 4);
 }
 
-TEST_CASE("the checkpoint fuzz corpus: seeds are accepted, past crash inputs are refused cleanly") {
+TEST_CASE("the checkpoint fuzz corpus: seeds are accepted and past crash inputs are refused cleanly") {
   replay("checkpoint", clothsim::fuzz::fuzz_checkpoint, 1);
 }

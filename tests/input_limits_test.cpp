@@ -21,7 +21,7 @@ TEST_CASE("a file over the input size limit is refused before it is read") {
                        doctest::Contains("file of 2147483649 bytes; expected at most 2147483648"), Error);
 }
 
-TEST_CASE("a grid over the vertex limit is refused; one at the limit is read") {
+TEST_CASE("a grid over the vertex limit is refused and one at the limit is read") {
   const fs::path dir = test::scratch_dir("limits_grid");
   auto scene = [&](const std::string& grid) {
     test::write_text(dir / "s.xml", "<scene>\n<cloth grid=\"" + grid + "\"/>\n</scene>\n");
