@@ -36,7 +36,9 @@ int RunCheckpoints::start(bool resume, State& state, bool quiet) {
                    dir_.c_str(), start_frame_);
     }
   }
-  io::remove_checkpoints_after(dir_, stem_, first - 1);
+  // Newer checkpoints describe frames this run replaces; a run that neither checkpoints nor resumes leaves
+  // them alone.
+  if (resume || every_ > 0) io::remove_checkpoints_after(dir_, stem_, first - 1);
   return first;
 }
 

@@ -16,7 +16,7 @@ class RunCheckpoints {
 
   // With `resume`, loads the newest valid checkpoint into `state` (warning on stderr about each invalid newer
   // one) and returns the first frame still to compute; otherwise, or when none is valid, model.start_frame.
-  // Checkpoints after the starting point are deleted: this run replaces them.
+  // When resuming or checkpointing, checkpoints after the starting point are deleted: this run replaces them.
   int start(bool resume, State& state, bool quiet);
 
   // Called after `frame`'s output is written; writes a checkpoint every `every` frames and at `last_frame`.
