@@ -22,6 +22,7 @@ struct SimulationDesc {
   Vec3 gravity{0, -9.81, 0};   // m/s^2
   int collision_iterations = 2;
   BroadPhase broad_phase = BroadPhase::hash;
+  int checkpoint_every = 0;    // frames between checkpoints (and one at the end); 0: none (io/checkpoint.h)
 };
 
 struct RandomForceDesc {

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "io/text_file.h"
 
 namespace clothsim::io {
@@ -143,7 +144,7 @@ std::string resolve(const std::string& base, const std::string& p) {
 void read_simulation(const std::string& file, const std::string& text, pugi::xml_node n, SimulationDesc& sim) {
   ElementReader r(file, text, n,
                   {"timestep", "fps", "startFrame", "endFrame", "integrator", "gravity", "collisionIterations",
-                   "broadPhase"});
+                   "broadPhase", "checkpointEvery"});
   sim.timestep = r.positive("timestep", sim.timestep, "s");
   sim.fps = r.positive("fps", sim.fps, "frames per second");
   sim.start_frame = r.integer("startFrame", sim.start_frame);
@@ -165,6 +166,8 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
   if (broad == "hash") sim.broad_phase = BroadPhase::hash;
   else if (broad == "bvh") sim.broad_phase = BroadPhase::bvh;
   else r.bad("broadPhase", "hash or bvh");
+  sim.checkpoint_every = r.integer("checkpointEvery", sim.checkpoint_every);
+  if (sim.checkpoint_every < 0) r.bad("checkpointEvery", "a number of frames >= 0 (0: no checkpoints)");
 }
 
 void read_forces(const std::string& file, const std::string& text, pugi::xml_node n, ForcesDesc& f) {
@@ -263,8 +266,9 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
     if (r.has("size")) r.fail("size applies to grid cloths only; use scale for an OBJ");
   } else {
     const auto g = r.numbers("grid", 2, "two integers \"NX NY\", each >= 2");
-    if (g[0] != std::floor(g[0]) || g[1] != std::floor(g[1]) || g[0] < 2 || g[1] < 2 || g[0] * g[1] > 1e8)
-      r.bad("grid", "two integers \"NX NY\", each >= 2");
+    if (g[0] != std::floor(g[0]) || g[1] != std::floor(g[1]) || g[0] < 2 || g[1] < 2 ||
+        g[0] * g[1] > double(limits::max_mesh_vertices))
+      r.bad("grid", "two integers \"NX NY\", each >= 2, with NX * NY <= " + std::to_string(limits::max_mesh_vertices));
     c.grid_nx = int(g[0]);
     c.grid_ny = int(g[1]);
     if (r.has("size")) {
