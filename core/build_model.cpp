@@ -4,6 +4,7 @@
 #include <limits>
 #include <numeric>
 
+#include "core/build_collision.h"
 #include "core/error.h"
 #include "core/grid.h"
 #include "core/spring_chunks.h"
@@ -213,6 +214,7 @@ Workspace make_workspace(const Model& model) {
     ws.solve_log.reserve(std::size_t(model.steps_per_frame));
   }
   if (model.strain_limited) ws.strain_correction.assign(model.spring_count, Vec3::Zero());
+  make_collision_workspace(model, ws.collision);
   return ws;
 }
 

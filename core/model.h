@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/collision_model.h"
 #include "core/math.h"
 #include "core/param_field.h"
 #include "core/scene_desc.h"
@@ -93,6 +94,7 @@ struct Model {
   int newton_iterations = 1;            // implicit: linear solves per step
 
   std::vector<ClothInfo> cloths;
+  CollisionModel collision;             // empty unless the scene has colliders or self-collision
 
   bool needs_normals() const { return wind_strength != 0; }
 };
@@ -124,6 +126,8 @@ struct Workspace {
   int strain_iterations_total = 0;
   int force_evaluations = 0;       // counted for the studies
   double seconds_forces = 0, seconds_integrate = 0;
+  CollisionScratch collision;      // sized only when model.collision.enabled
+  double seconds_collide = 0;
 };
 
 // Sizes the workspace for a model; nothing inside step allocates afterwards.

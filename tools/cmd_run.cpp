@@ -13,6 +13,7 @@
 #include "io/atomic_file.h"
 #include "io/obj_writer.h"
 #include "io/stats_json.h"
+#include "systems/collision_check.h"
 #include "systems/diagnostics.h"
 #include "systems/normals.h"
 #include "systems/spring_forces.h"
@@ -21,6 +22,7 @@
 #include "tools/cli_args.h"
 #include "tools/commands.h"
 #include "tools/progress.h"
+#include "tools/run_checkpoints.h"
 #include "tools/scene_loader.h"
 #include "tools/step_advice.h"
 
@@ -33,7 +35,10 @@ const char* run_help =
     "  --threads N        worker threads (default: all cores); output is identical for any N\n"
     "  --frames A:B       write frames A..B only (simulation still starts at the scene's startFrame)\n"
     "  --stats FILE.json  counts, timings by phase, peak memory, per-frame strain and kinetic energy\n"
+    "                     (with collisions: contacts, cloth-collider distances, penetrations)\n"
     "  --quiet            no progress on stderr\n"
+    "  --checkpoint-every K  checkpoint every K frames and at the end (default: the scene's checkpointEvery)\n"
+    "  --resume           continue from the newest valid checkpoint; later frames are recomputed identically\n"
     "Exit codes: 0 done, 2 bad input (file, line and what was expected on stderr), 3 diverged (non-finite\n"
     "values, or the mechanical energy rose past the bound of docs/stability.md; no such frame is written).";
 
@@ -57,11 +62,23 @@ long long peak_rss_bytes() {
   return static_cast<long long>(u.ru_maxrss) * 1024;
 }
 
+// Contacts of the frame's steps, and the independent checks: distances, vertices inside, crossing triangles.
+void add_collision_stats(const Model& model, const State& state, Workspace& ws, io::FrameStats& f) {
+  f.contacts = ws.collision.contacts_found;
+  ws.collision.contacts_found = 0;
+  f.penetrations = count_intersecting_triangles(model, state.x);
+  for (Index c = 0; c < Index(model.collision.colliders.size()); ++c) {
+    f.collider_distance.push_back(min_collider_distance(model, state.x, ws.collision, c));
+    f.penetrations += count_inside(model, state.x, ws.collision, c);
+  }
+}
+
 }  // namespace
 
 int cmd_run(int argc, char** argv) {
   const auto wall0 = std::chrono::steady_clock::now();
-  const Args args = parse_args(argc, argv, {"--out", "--threads", "--frames", "--stats"}, {"--quiet"});
+  const Args args = parse_args(argc, argv, {"--out", "--threads", "--frames", "--stats", "--checkpoint-every"},
+                               {"--quiet", "--resume"});
   if (args.help) { std::puts(run_help); return exit_ok; }
   if (args.positional.size() != 1) throw UsageError("expected one scene file");
   const int threads = args.has("--threads") ? parse_int("--threads", args.get("--threads"), 1)
@@ -85,6 +102,18 @@ int cmd_run(int argc, char** argv) {
   }
   for (const std::string& d : std::set<std::string>(dirs.begin(), dirs.end())) io::ensure_writable_dir(d);
 
+  // Divergence guard (docs/stability.md): every frame is checked before it is written. Energies are measured from
+  // the scene's initial state, taken before a --resume replaces it, so a resumed run is judged like a whole one.
+  const std::vector<Vec3> x_start = state.x;
+  const Real energy_start = mechanical_energy(model, state, x_start);
+  const Real energy_bound = energy_rise_bound(model, x_start);
+
+  RunCheckpoints checkpoints(loaded.desc, model, state, dirs.front(),
+                             args.has("--checkpoint-every")
+                                 ? parse_int("--checkpoint-every", args.get("--checkpoint-every"), 0)
+                                 : loaded.desc.simulation.checkpoint_every);
+  const int first_frame = checkpoints.start(args.has("--resume"), state, args.has("--quiet"));
+
   Workspace ws = make_workspace(model);
   State scratch = state;
   io::RunStats stats;
@@ -94,12 +123,8 @@ int cmd_run(int argc, char** argv) {
   stats.topology_seconds = loaded.topology_seconds;
   Progress progress(frames.last - frames.first + 1, args.has("--quiet"));
   int status = exit_ok;
-  // Divergence guard (docs/stability.md): every frame is checked before it is written.
-  const std::vector<Vec3> x_start = state.x;
-  const Real energy_start = mechanical_energy(model, state, x_start);
-  const Real energy_bound = energy_rise_bound(model, x_start);
 
-  for (int frame = model.start_frame; frame <= frames.last; ++frame) {
+  for (int frame = first_frame; frame <= frames.last; ++frame) {
     ws.solve_log.clear();
     if (frame > model.start_frame) step_frame(model, state, scratch, ws);
     const bool finite = state_is_finite(state);
@@ -120,13 +145,11 @@ int cmd_run(int argc, char** argv) {
       status = exit_diverged;
       break;
     }
-    io::FrameStats& fs = stats.frames.emplace_back();
-    fs.frame = frame;
-    fs.max_strain = max_spring_strain(model, state.x);
-    fs.kinetic_energy = kinetic_energy(model, state.v);
+    stats.frames.push_back({frame, max_spring_strain(model, state.x), kinetic_energy(model, state.v), 0, {}, 0, {}, {}});
+    if (model.collision.enabled && args.has("--stats")) add_collision_stats(model, state, ws, stats.frames.back());
     for (const Workspace::SolveRecord& r : ws.solve_log) {
-      fs.cg_iterations.push_back(r.cg_iterations);
-      fs.cg_residual.push_back(r.cg_residual);
+      stats.frames.back().cg_iterations.push_back(r.cg_iterations);
+      stats.frames.back().cg_residual.push_back(r.cg_residual);
     }
     if (frame < frames.first) continue;
     const auto w0 = std::chrono::steady_clock::now();
@@ -138,6 +161,7 @@ int cmd_run(int argc, char** argv) {
     stats.write_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
     ++stats.frames_written;
     progress.frame_done(frame - frames.first + 1, frame);
+    checkpoints.frame_written(frame, frames.last, state);
   }
   progress.finish();
 
@@ -147,6 +171,7 @@ int cmd_run(int argc, char** argv) {
   stats.strain_limit_iterations = ws.strain_iterations_total;
   stats.forces_seconds = ws.seconds_forces;
   stats.integrate_seconds = ws.seconds_integrate;
+  stats.collide_seconds = ws.seconds_collide;
   stats.peak_rss_bytes = peak_rss_bytes();
   stats.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   if (args.has("--stats")) io::write_stats(args.get("--stats"), model, stats);
