@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "io/mtl_writer.h"
 #include "io/obj_writer.h"
 #include "io/stats_json.h"
 #include "systems/diagnostics.h"
@@ -81,6 +82,7 @@ int cmd_run(int argc, char** argv) {
                                           "; expected distinct saveName values");
   }
   for (const std::string& d : std::set<std::string>(dirs.begin(), dirs.end())) io::ensure_writable_dir(d);
+  for (std::size_t c = 0; c < model.cloths.size(); ++c) io::write_material(dirs[c], model.cloths[c]);
 
   Workspace ws = make_workspace(model);
   State scratch = state;

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "io/cloth_maps.h"
 #include "io/obj_reader.h"
 #include "io/scene_xml.h"
 
@@ -14,6 +15,7 @@ LoadedScene load_scene(const std::string& path) {
   s.desc = io::read_scene(path);
   std::vector<MeshData> meshes;
   for (const ClothDesc& c : s.desc.cloths) meshes.push_back(c.obj.empty() ? make_cloth_grid(c) : io::read_obj(c.obj));
+  for (std::size_t c = 0; c < meshes.size(); ++c) meshes[c].params = io::sample_cloth_maps(s.desc, s.desc.cloths[c], meshes[c]);
   const auto t1 = clock::now();
   s.built = build_model(s.desc, meshes);
   s.load_seconds = std::chrono::duration<double>(t1 - t0).count();
