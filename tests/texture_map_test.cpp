@@ -95,22 +95,25 @@ TEST_CASE("a seam vertex takes the mean of the samples at its UVs") {
   const auto dir = scratch_dir("map_seam");
   write_png(dir / "halves.png", 2, 1, 1, 8, {0, 255});  // left half black, right half white
   // Two triangles share vertices 0 and 1; the first uses UVs on the black side, the second on the white side,
-  // so vertices 0 and 1 sit on a seam. Vertex 2 is black only, vertex 3 white only.
+  // so vertices 0 and 1 sit on a seam. A third triangle uses vertex 0's black UV again: the mean is over its
+  // distinct UVs (1/2), not over its corners (1/3). Vertices 2 and 4 are black only, vertex 3 white only.
   MeshData mesh;
-  mesh.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, -1, 0)};
-  mesh.uvs = {Vec2(0.25, 0.2), Vec2(0.25, 0.4), Vec2(0.25, 0.8), Vec2(0.75, 0.2), Vec2(0.75, 0.4), Vec2(0.75, 0.8)};
-  mesh.tri_index = {0, 1, 2, 0, 3, 1};
-  mesh.tri_uv = {0, 1, 2, 3, 5, 4};
+  mesh.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, -1, 0), Vec3(-1, 0, 0)};
+  mesh.uvs = {Vec2(0.25, 0.2), Vec2(0.25, 0.4), Vec2(0.25, 0.8), Vec2(0.75, 0.2), Vec2(0.75, 0.4), Vec2(0.75, 0.8),
+              Vec2(0.1, 0.2)};
+  mesh.tri_index = {0, 1, 2, 0, 3, 1, 0, 2, 4};
+  mesh.tri_uv = {0, 1, 2, 3, 5, 4, 0, 2, 6};
   const io::GreyImage img = io::read_grey_image((dir / "halves.png").string());
   const std::vector<Real> g = io::vertex_grey(img, mesh);
   CHECK(g[0] == 0.5);
   CHECK(g[1] == 0.5);
   CHECK(g[2] == 0);
   CHECK(g[3] == 1);
+  CHECK(g[4] == 0);
 
   SceneDesc scene;
   ClothDesc cloth;
   cloth.damping_map = {(dir / "halves.png").string(), 0.25, 1.25, 1};
   const VertexParams vp = io::sample_cloth_maps(scene, cloth, mesh);
-  CHECK(vp.damping == std::vector<Real>{0.75, 0.75, 0.25, 1.25});
+  CHECK(vp.damping == std::vector<Real>{0.75, 0.75, 0.25, 1.25, 0.25});
 }
