@@ -54,15 +54,7 @@ void eval_springs_scalar(const Model& m, Real ke, Real kd, std::span<const Vec3>
     const Index a = m.spring_a[s], b = m.spring_b[s];
     spring_force_out[s] = spring_force(x[a], x[b], v[a], v[b], m.spring_rest[s], ke, kd);
   });
-  parallel_over(m.particle_count, particle_grain, [&](Index i) {
-    Vec3 sum = Vec3::Zero();
-    for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
-      const Index e = m.particle_spring_index[k];
-      if (e >= 0) sum += spring_force_out[e];
-      else sum -= spring_force_out[~e];
-    }
-    f[i] = sum;
-  });
+  gather_spring_forces(m, spring_force_out, f);
 }
 
 void SpringParams_scalar_reference(benchmark::State& st) {

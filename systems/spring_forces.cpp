@@ -28,12 +28,16 @@ void eval_springs_two_phase(const Model& m, std::span<const Vec3> x, std::span<c
     const Index a = m.spring_a[s], b = m.spring_b[s];
     spring_force_out[s] = spring_force(x[a], x[b], v[a], v[b], m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]);
   });
+  gather_spring_forces(m, spring_force_out, f);
+}
+
+void gather_spring_forces(const Model& m, std::span<const Vec3> spring_force, std::span<Vec3> f) {
   parallel_over(m.particle_count, particle_grain, [&](Index i) {
     Vec3 sum = Vec3::Zero();
     for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
       const Index e = m.particle_spring_index[k];
-      if (e >= 0) sum += spring_force_out[e];
-      else sum -= spring_force_out[~e];
+      if (e >= 0) sum += spring_force[e];
+      else sum -= spring_force[~e];
     }
     f[i] = sum;
   });

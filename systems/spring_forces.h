@@ -25,6 +25,8 @@ void eval_springs(const Model& model, std::span<const Vec3> x, std::span<const V
 void eval_springs_gather(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f);
 void eval_springs_two_phase(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v,
                             std::span<Vec3> f, std::span<Vec3> spring_force);
+// The second phase of two_phase: f[i] = sum of the per-spring forces on particle i, in CSR order.
+void gather_spring_forces(const Model& model, std::span<const Vec3> spring_force, std::span<Vec3> f);
 
 // Largest strain (|d| - rest)/rest over all springs: a maximum, so exact at any thread count.
 Real max_spring_strain(const Model& model, std::span<const Vec3> x);
