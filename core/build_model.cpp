@@ -120,6 +120,7 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
     const ParamField vertex_thickness = vertex_field(scene, cd, mesh, vp.thickness, cd.thickness, "thickness map");
     for (Index i = 0; i < mesh.vertex_count(); ++i) thickness[base + i] = vertex_thickness[i];
     // With a thickness map the cloth's one figure is its largest thickness (a safe bound for collision queries).
+    info.thickness = vertex_thickness[0];
     for (Index i = 0; i < mesh.vertex_count(); ++i) info.thickness = std::max(info.thickness, vertex_thickness[i]);
 
     // Mass from areal density lumped to the corners by area (a third each), so refining keeps the total.

@@ -64,6 +64,7 @@ TEST_CASE("a spring takes the mean of its ends' stiffness and damping times its 
   CHECK(m.spring_ke[4] == doctest::Approx(0.5 * (100 + 300)));        // flex, bend scale 1
   CHECK(m.spring_kd[5] == doctest::Approx(0.5 * (0.01 + 0.07)));
   CHECK(m.particle_thickness[7] == doctest::Approx(0.008));
+  CHECK(m.cloths[0].thickness == doctest::Approx(0.009));  // the largest, for collision bounds
   CHECK_FALSE(m.spring_ke.uniform());
 
   // Without maps (and one scale for every kind) each field stays one scalar: model no more than the scene needs.
