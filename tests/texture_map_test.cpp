@@ -10,6 +10,8 @@
 #include "io/texture_map.h"
 #include "png_fixtures.h"
 
+#include <stb_image_write.h>
+
 using namespace clothsim;
 using namespace clothsim::test;
 
@@ -116,4 +118,26 @@ TEST_CASE("a seam vertex takes the mean of the samples at its UVs") {
   cloth.damping_map = {(dir / "halves.png").string(), 0.25, 1.25, 1};
   const VertexParams vp = io::sample_cloth_maps(scene, cloth, mesh);
   CHECK(vp.damping == std::vector<Real>{0.75, 0.75, 0.25, 1.25, 0.25});
+}
+
+TEST_CASE("TGA, BMP and JPEG maps read like PNG") {
+  const auto dir = scratch_dir("map_formats");
+  // 4 x 2 RGB: a grey ramp 0, 85, 170, 255 on both rows, stored as colour.
+  std::vector<unsigned char> rgb;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 4; ++i)
+      for (int k = 0; k < 3; ++k) rgb.push_back(static_cast<unsigned char>(85 * i));
+  REQUIRE(stbi_write_tga((dir / "m.tga").c_str(), 4, 2, 3, rgb.data()));
+  REQUIRE(stbi_write_bmp((dir / "m.bmp").c_str(), 4, 2, 3, rgb.data()));
+  for (const char* name : {"m.tga", "m.bmp"}) {
+    INFO(name);
+    const io::GreyImage img = io::read_grey_image((dir / name).string());
+    REQUIRE(img.grey.size() == 8);
+    for (int i = 0; i < 4; ++i) CHECK(img.grey[i] == doctest::Approx(i / 3.0));  // lossless: exact levels
+  }
+  // JPEG is lossy: a flat mid-grey survives within two levels.
+  std::vector<unsigned char> flat(16 * 16 * 3, 128);
+  REQUIRE(stbi_write_jpg((dir / "m.jpg").c_str(), 16, 16, 3, flat.data(), 95));
+  const io::GreyImage jpg = io::read_grey_image((dir / "m.jpg").string());
+  CHECK(io::sample_grey(jpg, Vec2(0.5, 0.5)) == doctest::Approx(128.0 / 255).epsilon(2.0 / 128));
 }
