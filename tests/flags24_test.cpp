@@ -59,6 +59,11 @@ TEST_CASE("24 flags: flag k's springs take the stiffness of its grey block, risi
   REQUIRE(mesh.vertex_count() == flags * per_flag);
   const BuiltScene built = build_model(scene, {mesh});
   CHECK(built.model.cloths[0].pieces == flags);
+  CHECK(built.model.spring_kd.uniform());  // damping is one value: it stays a scalar
+  const CliResult v = run_cli("validate " + scene_path);
+  CHECK(v.exit_code == 0);
+  CHECK(v.output.find("stiffness per element (mapped or scaled), damping one value, thickness one value") !=
+        std::string::npos);
   // Every vertex of flag k lies inside its block of texels, so it reads grey round(255 k / 23) exactly.
   for (int k = 0; k < flags; ++k) {
     const Real expected = std::lerp(40.0, 400.0, std::round(255.0 * k / 23) / 255);
