@@ -26,6 +26,12 @@ class ElementReader {
       if (!ok.count(a.name())) fail("unknown attribute '" + std::string(a.name()) + "'; expected one of: " + join(allowed));
   }
 
+  // An element that should not be there at all: reported before (and instead of) its attributes.
+  [[noreturn]] static void unknown_element(const std::string& file, const std::string& text, pugi::xml_node node,
+                                           const std::string& what) {
+    throw Error(file, line_of(text, node.offset_debug()), "<" + std::string(node.name()) + ">: " + what);
+  }
+
   static int line_of(const std::string& text, std::ptrdiff_t offset) {
     if (offset < 0) return 0;
     return 1 + int(std::count(text.begin(), text.begin() + std::min<std::size_t>(offset, text.size()), '\n'));
@@ -205,7 +211,7 @@ void read_forces(const std::string& file, const std::string& text, pugi::xml_nod
       ElementReader r(file, text, c, {"value"});
       f.air_damping = r.non_negative("value", 0, "1/s");
     } else {
-      ElementReader(file, text, c, {}).fail("unknown element in <forces>; expected external, wind, random or airDamping");
+      ElementReader::unknown_element(file, text, c, "unknown element in <forces>; expected external, wind, random or airDamping");
     }
   }
 }
@@ -257,10 +263,10 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
     if (p.type() != pugi::node_element) continue;
     const std::string name = p.name();
     if (name == "density") {
-      if (c.mass_per_vertex) ElementReader(file, text, p, {}).fail("expected one of <density> or <mass>, not both");
+      ElementReader s(file, text, p, {"value", "min", "max", "map"});
+      if (c.mass_per_vertex) s.fail("expected one of <density> or <mass>, not both");
       has_density = true;
-      read_param(ElementReader(file, text, p, {"value", "min", "max", "map"}), base, c.density, c.density_map, true,
-                 "kg/m^2");
+      read_param(s, base, c.density, c.density_map, true, "kg/m^2");
     } else if (name == "mass") {
       ElementReader s(file, text, p, {"value", "min", "max", "map"});
       if (has_density) s.fail("expected one of <density> or <mass>, not both");
@@ -297,7 +303,7 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
         c.pins.push_back(v);
       }
     } else {
-      ElementReader(file, text, p, {}).fail(
+      ElementReader::unknown_element(file, text, p,
           "unknown element in <cloth>; expected density, mass, stiffness, damping, thickness or pins");
     }
   }
@@ -314,7 +320,7 @@ SceneDesc read_scene(const std::string& path) {
                 std::string("malformed XML (") + res.description() + "); expected a <scene> document");
   pugi::xml_node root = doc.document_element();
   if (std::string(root.name()) != "scene")
-    ElementReader(path, text, root, {}).fail("unknown root element; expected <scene>");
+    ElementReader::unknown_element(path, text, root, "unknown root element; expected <scene>");
 
   SceneDesc scene;
   scene.path = path;
@@ -334,7 +340,7 @@ SceneDesc read_scene(const std::string& path) {
       scene.cloths.emplace_back();
       read_cloth(path, text, scene.base_dir, n, scene.cloths.back(), int(scene.cloths.size()) - 1);
     } else {
-      ElementReader(path, text, n, {}).fail("unknown element in <scene>; expected simulation, forces or cloth");
+      ElementReader::unknown_element(path, text, n, "unknown element in <scene>; expected simulation, forces or cloth");
     }
   }
   if (scene.cloths.empty()) throw Error(path, "no <cloth> element; expected at least one cloth");

@@ -172,6 +172,7 @@ TEST_CASE("bad maps: exit code 2, a message naming the file and the attribute, a
       {R"(grid="3 3"><stiffness value="3" min="1" max="2" map="ok.png"/>)", "not both"},
       {R"(grid="3 3"><stiffness min="1" map="ok.png"/>)", "needs all of"},
       {R"(grid="3 3"><density value="1"/><mass value="0.1"/>)", "<density> or <mass>"},
+      {R"(grid="3 3"><mass value="0.1"/><density value="1"/>)", "<density> or <mass>"},
   };
   for (const Case& c : cases) {
     INFO(c.cloth);
