@@ -1,10 +1,11 @@
 // Does a mapped (per-spring) stiffness cost anything, and does the uniform ParamField (stride 0) cost anything
-// against plain scalars? The spring kernel on a 256 x 256 grid (~390k springs), one thread, three ways:
-//   scalar_reference  a copy of the two-phase kernel taking ke and kd as plain numbers ("before": no fields)
-//   uniform_field     eval_springs_two_phase with stride-0 ParamFields (what an unmapped scene builds)
-//   per_spring_field  eval_springs_two_phase with per-spring arrays (what a stiffness/damping map builds)
-// Run: build/bench/clothsim_bench --benchmark_filter=SpringParams --benchmark_repetitions=9
-//      --benchmark_report_aggregates_only=true   (docs/performance.md quotes the medians)
+// against plain scalars? The spring kernel on a 256 x 256 grid (~390k springs), one thread:
+//   scalar_reference    a copy of the two-phase kernel taking ke and kd as plain numbers ("before": no fields)
+//   uniform_field/L     the real kernel of layout L (0 gather, the default; 1 two-phase) with stride-0
+//                       ParamFields (what an unmapped scene builds)
+//   per_spring_field/L  the same with per-spring arrays (what a stiffness/damping map builds)
+// Run: build/bench/clothsim_bench --benchmark_filter=SpringParams --benchmark_repetitions=15
+//      --benchmark_min_time=0.1 --benchmark_enable_random_interleaving=true --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
@@ -71,9 +72,10 @@ void SpringParams_scalar_reference(benchmark::State& st) {
 void SpringParams_uniform_field(benchmark::State& st) {
   tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   SpringBench b;
+  b.scene.model.spring_layout = st.range(0) == 0 ? SpringLayout::gather : SpringLayout::two_phase;
   if (!b.scene.model.spring_ke.uniform()) st.SkipWithError("expected a uniform stiffness");
   for (auto _ : st) {
-    eval_springs_two_phase(b.scene.model, b.scene.state.x, b.v, b.f, b.spring_force);
+    eval_springs(b.scene.model, b.scene.state.x, b.v, b.f, b.spring_force);
     benchmark::DoNotOptimize(b.f.data());
   }
   st.counters["springs/s"] = benchmark::Counter(double(b.scene.model.spring_count), benchmark::Counter::kIsIterationInvariantRate);
@@ -83,17 +85,18 @@ void SpringParams_per_spring_field(benchmark::State& st) {
   tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   SpringBench b;
   b.make_per_spring();
+  b.scene.model.spring_layout = st.range(0) == 0 ? SpringLayout::gather : SpringLayout::two_phase;
   if (b.scene.model.spring_ke.uniform()) st.SkipWithError("expected per-spring stiffness");
   for (auto _ : st) {
-    eval_springs_two_phase(b.scene.model, b.scene.state.x, b.v, b.f, b.spring_force);
+    eval_springs(b.scene.model, b.scene.state.x, b.v, b.f, b.spring_force);
     benchmark::DoNotOptimize(b.f.data());
   }
   st.counters["springs/s"] = benchmark::Counter(double(b.scene.model.spring_count), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 BENCHMARK(SpringParams_scalar_reference)->Unit(benchmark::kMillisecond);
-BENCHMARK(SpringParams_uniform_field)->Unit(benchmark::kMillisecond);
-BENCHMARK(SpringParams_per_spring_field)->Unit(benchmark::kMillisecond);
+BENCHMARK(SpringParams_uniform_field)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(SpringParams_per_spring_field)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace clothsim
