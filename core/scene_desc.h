@@ -50,6 +50,14 @@ struct TransformDesc {
   Vec3 scale{1, 1, 1};
 };
 
+// A parameter painted as a grey-scale image: value = lerp(min, max, grey at the vertex's UV) (docs/maps.md).
+struct ParamMapDesc {
+  std::string path;           // image, resolved against the scene folder; empty when the value is uniform
+  Real min = 0, max = 0;
+  int line = 0;               // line of the element, for error messages
+  bool mapped() const { return !path.empty(); }
+};
+
 struct ClothDesc {
   std::string name;
   int line = 0;               // line of the <cloth> element, for error messages
@@ -71,6 +79,9 @@ struct ClothDesc {
   Real thickness = 0.005;     // m
   std::vector<Index> pins;    // vertex indices held fixed
   Real max_strain = 0;        // Provot 1995 strain limit (|d| - rest)/rest, 0 for none
+  bool mass_per_vertex = false;  // <mass> given: kg per vertex instead of density lumped by area
+  Real mass = 0;              // kg per vertex, when mass_per_vertex and not mapped
+  ParamMapDesc density_map, mass_map, stiffness_map, damping_map, thickness_map, pins_map;
 };
 
 // A collider: <static obj|sequence>, <sphere> or <plane>. Meshes are one-sided: the outside is where the

@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "io/mtl_writer.h"
 #include "io/obj_writer.h"
 #include "io/stats_json.h"
 #include "systems/collision_check.h"
@@ -101,6 +102,7 @@ int cmd_run(int argc, char** argv) {
                                           "; expected distinct saveName values");
   }
   for (const std::string& d : std::set<std::string>(dirs.begin(), dirs.end())) io::ensure_writable_dir(d);
+  for (std::size_t c = 0; c < model.cloths.size(); ++c) io::write_material(dirs[c], model.cloths[c]);
 
   // Divergence guard (docs/stability.md): every frame is checked before it is written. Energies are measured from
   // the scene's initial state, taken before a --resume replaces it, so a resumed run is judged like a whole one.
