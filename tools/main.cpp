@@ -16,6 +16,7 @@ const char* usage =
     "  run SCENE.xml       simulate and write one OBJ per frame\n"
     "  validate SCENE.xml  check a scene without simulating\n"
     "  info MESH.obj       mesh and spring counts, topology checks\n"
+    "  study NAME          accuracy and stability studies of the integrators, with charts\n"
     "Run 'clothsim <command> --help' for the options of a command.\n";
 
 }  // namespace
@@ -31,6 +32,7 @@ int main(int argc, char** argv) {
     if (command == "run") return cmd_run(argc - 2, argv + 2);
     if (command == "validate") return cmd_validate(argc - 2, argv + 2);
     if (command == "info") return cmd_info(argc - 2, argv + 2);
+    if (command == "study") return cmd_study(argc - 2, argv + 2);
     std::fprintf(stderr, "clothsim: unknown command '%s'\n%s", command.c_str(), usage);
     return exit_bad_input;
   } catch (const clothsim::Error& e) {
