@@ -138,7 +138,7 @@ std::string number(double v) {
   if (std::isinf(v)) return "inf";
   if (!std::isfinite(v)) return "nan";
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
+  std::snprintf(buf, sizeof buf, "%.12g", v);
   return buf;
 }
 
