@@ -58,7 +58,7 @@ struct Model {
   // incident springs of each particle: entry = spring index, ~index (negative) when the particle is spring_b
   std::vector<Index> particle_spring_offset;  // (particle_count + 1)
   std::vector<Index> particle_spring_index;   // (2 * spring_count)
-  SpringLayout spring_layout = SpringLayout::two_phase;
+  SpringLayout spring_layout = SpringLayout::gather;  // default chosen by bench/spring_layout_bench.cpp
 
   // --- triangles
   Index tri_count = 0;

@@ -26,6 +26,12 @@ class ElementReader {
       if (!ok.count(a.name())) fail("unknown attribute '" + std::string(a.name()) + "'; expected one of: " + join(allowed));
   }
 
+  // An element that should not be there at all: reported before (and instead of) its attributes.
+  [[noreturn]] static void unknown_element(const std::string& file, const std::string& text, pugi::xml_node node,
+                                           const std::string& what) {
+    throw Error(file, line_of(text, node.offset_debug()), "<" + std::string(node.name()) + ">: " + what);
+  }
+
   static int line_of(const std::string& text, std::ptrdiff_t offset) {
     if (offset < 0) return 0;
     return 1 + int(std::count(text.begin(), text.begin() + std::min<std::size_t>(offset, text.size()), '\n'));
@@ -182,7 +188,7 @@ void read_forces(const std::string& file, const std::string& text, pugi::xml_nod
       ElementReader r(file, text, c, {"value"});
       f.air_damping = r.non_negative("value", 0, "1/s");
     } else {
-      ElementReader(file, text, c, {}).fail("unknown element in <forces>; expected external, wind, random or airDamping");
+      ElementReader::unknown_element(file, text, c, "unknown element in <forces>; expected external, wind, random or airDamping");
     }
   }
 }
@@ -255,7 +261,7 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
         c.pins.push_back(v);
       }
     } else {
-      ElementReader(file, text, p, {}).fail(
+      ElementReader::unknown_element(file, text, p,
           "unknown element in <cloth>; expected density, stiffness, damping, thickness or pins");
     }
   }
@@ -272,7 +278,7 @@ SceneDesc read_scene(const std::string& path) {
                 std::string("malformed XML (") + res.description() + "); expected a <scene> document");
   pugi::xml_node root = doc.document_element();
   if (std::string(root.name()) != "scene")
-    ElementReader(path, text, root, {}).fail("unknown root element; expected <scene>");
+    ElementReader::unknown_element(path, text, root, "unknown root element; expected <scene>");
 
   SceneDesc scene;
   scene.path = path;
@@ -292,7 +298,7 @@ SceneDesc read_scene(const std::string& path) {
       scene.cloths.emplace_back();
       read_cloth(path, text, scene.base_dir, n, scene.cloths.back(), int(scene.cloths.size()) - 1);
     } else {
-      ElementReader(path, text, n, {}).fail("unknown element in <scene>; expected simulation, forces or cloth");
+      ElementReader::unknown_element(path, text, n, "unknown element in <scene>; expected simulation, forces or cloth");
     }
   }
   if (scene.cloths.empty()) throw Error(path, "no <cloth> element; expected at least one cloth");
