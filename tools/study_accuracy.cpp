@@ -206,13 +206,6 @@ double measured_order(const std::vector<Point>& points, const std::string& probl
   return fit_order(h, e);
 }
 
-std::string format_number(double v) {
-  if (!std::isfinite(v)) return "nan";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.12g", v);
-  return buf;
-}
-
 // One panel per problem, one curve per method, read from accuracy.csv by gnuplot's column filters.
 std::string chart_commands(const std::vector<Problem>& problems, const std::vector<Point>& points, bool work) {
   std::string s = "set multiplot layout 2,2 title " +
@@ -226,7 +219,7 @@ std::string chart_commands(const std::vector<Problem>& problems, const std::vect
     for (std::size_t k = 0; k < study_methods.size(); ++k) {
       const std::string method = study_methods[k].name;
       std::string title = method;
-      if (!work) title += " (order " + format_number(std::round(100 * measured_order(points, p.name, method)) / 100) + ")";
+      if (!work) title += " (order " + csv_number(std::round(100 * measured_order(points, p.name, method)) / 100) + ")";
       s += std::string(k ? ", \\\n     " : "") + "'accuracy.csv' every ::1 using " +
            "(strcol(1) eq '" + p.name + "' && strcol(2) eq '" + method + "' && strcol(8) eq 'ok' ? $" +
            (work ? "6" : "3") + " : NaN):7 with linespoints lw 2 pt " + std::to_string(k + 5) + " title " +
@@ -240,12 +233,10 @@ std::string chart_commands(const std::vector<Problem>& problems, const std::vect
 }  // namespace
 
 int study_accuracy(int argc, char** argv) {
-  const Args args = parse_args(argc, argv, {"--out"}, {"--quick"});
-  if (args.help) { std::puts(accuracy_help); return exit_ok; }
-  if (!args.positional.empty()) throw UsageError("unexpected argument '" + args.positional[0] + "'");
-  const bool quick = args.has("--quick");
-  const std::string out = args.get("--out", "study-accuracy");
-  io::ensure_writable_dir(out);
+  const StudyOptions options = parse_study_options(argc, argv, "study-accuracy");
+  if (options.help) { std::puts(accuracy_help); return exit_ok; }
+  const bool quick = options.quick;
+  const std::string& out = options.out;
   // One thread per run: CPU time then measures the integrator's work alone, and the repeats compare alike.
   tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
 
@@ -264,20 +255,20 @@ int study_accuracy(int argc, char** argv) {
 
   std::string csv = "problem,method,step_s,steps,force_evaluations,cpu_s,error,status\n";
   for (const Point& p : points)
-    csv += p.problem + "," + p.method + "," + format_number(p.step) + "," + std::to_string(p.run.steps) + "," +
-           std::to_string(p.run.force_evaluations) + "," + format_number(p.run.cpu_seconds) + "," +
-           format_number(p.error) + "," + (std::isfinite(p.error) ? "ok" : "diverged") + "\n";
+    csv += p.problem + "," + p.method + "," + csv_number(p.step) + "," + std::to_string(p.run.steps) + "," +
+           std::to_string(p.run.force_evaluations) + "," + csv_number(p.run.cpu_seconds) + "," +
+           csv_number(p.error) + "," + (std::isfinite(p.error) ? "ok" : "diverged") + "\n";
   std::string orders = "problem,method,measured_order\n";
   for (const Problem& p : problems)
     for (const StudyMethod& m : study_methods)
-      orders += p.name + "," + m.name + "," + format_number(measured_order(points, p.name, m.name)) + "\n";
+      orders += p.name + "," + m.name + "," + csv_number(measured_order(points, p.name, m.name)) + "\n";
   std::string refs = "problem,reference,reference_step_s,reference_change,smallest_error\n";
   for (const Problem& p : problems) {
     double smallest = INFINITY;
     for (const Point& pt : points)
       if (pt.problem == p.name && std::isfinite(pt.error)) smallest = std::min(smallest, pt.error);
-    refs += p.name + "," + p.reference_how + "," + format_number(p.reference_step) + "," +
-            format_number(p.reference_change) + "," + format_number(smallest) + "\n";
+    refs += p.name + "," + p.reference_how + "," + csv_number(p.reference_step) + "," +
+            csv_number(p.reference_change) + "," + csv_number(smallest) + "\n";
   }
   const std::filesystem::path dir(out);
   io::write_file_atomic((dir / "accuracy.csv").string(), csv);

@@ -2,14 +2,34 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <limits>
 #include <utility>
 
+#include "io/atomic_file.h"
 #include "systems/diagnostics.h"
 #include "systems/step.h"
+#include "tools/cli_args.h"
 
 namespace clothsim::cli {
+
+StudyOptions parse_study_options(int argc, char** argv, const std::string& default_out) {
+  const Args args = parse_args(argc, argv, {"--out"}, {"--quick"});
+  StudyOptions o{args.get("--out", default_out), args.has("--quick"), args.help};
+  if (o.help) return o;
+  if (!args.positional.empty()) throw UsageError("unexpected argument '" + args.positional[0] + "'");
+  io::ensure_writable_dir(o.out);
+  return o;
+}
+
+std::string csv_number(double v) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  if (!std::isfinite(v)) return "nan";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.12g", v);
+  return buf;
+}
 
 double cpu_now() {
   timespec t{};

@@ -37,6 +37,18 @@ struct TimedRun {
 TimedRun timed_run(const Model& model, const State& initial, Integrator integrator, Real h, std::int64_t steps,
                    int repeats = 3, double repeat_below = 0.5);
 
+// The options every study takes: --out DIR (created and checked writable) and --quick. help is set for --help,
+// which the caller answers; a positional argument is a usage error.
+struct StudyOptions {
+  std::string out;
+  bool quick = false;
+  bool help = false;
+};
+StudyOptions parse_study_options(int argc, char** argv, const std::string& default_out);
+
+// A number for the CSV files: 12 significant digits, "nan" and "inf" as gnuplot reads them.
+std::string csv_number(double v);
+
 // Process CPU seconds (the studies run TBB on one thread, so this is the work of the run itself).
 double cpu_now();
 

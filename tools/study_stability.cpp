@@ -134,14 +134,6 @@ Limit largest_bounded(const std::function<bool(double)>& bounded, double guess, 
   return {lo, false};
 }
 
-std::string number(double v) {
-  if (std::isinf(v)) return "inf";
-  if (!std::isfinite(v)) return "nan";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.12g", v);
-  return buf;
-}
-
 std::string chart_commands() {
   std::string s =
       "set multiplot layout 1,2 title 'Stability of the integrators on undamped springs (chain of 8 masses)'\n"
@@ -167,12 +159,10 @@ std::string chart_commands() {
 }  // namespace
 
 int study_stability(int argc, char** argv) {
-  const Args args = parse_args(argc, argv, {"--out"}, {"--quick"});
-  if (args.help) { std::puts(stability_help); return exit_ok; }
-  if (!args.positional.empty()) throw UsageError("unexpected argument '" + args.positional[0] + "'");
-  const bool quick = args.has("--quick");
-  const std::string out = args.get("--out", "study-stability");
-  io::ensure_writable_dir(out);
+  const StudyOptions options = parse_study_options(argc, argv, "study-stability");
+  if (options.help) { std::puts(stability_help); return exit_ok; }
+  const bool quick = options.quick;
+  const std::string& out = options.out;
   tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
   const double tolerance = quick ? 1e-2 : 1e-3;
   // The search stops at 1000 / w_max: over 350x the RK4 limit, where only an unconditionally stable method goes.
@@ -190,9 +180,9 @@ int study_stability(int argc, char** argv) {
                                         cap_hw / w, tolerance);
       std::fprintf(stderr, "  %-10s k=%-8.3g w_max=%-8.4g largest bounded step %.5g s%s, theory %.5g s\n", m.name, k,
                    w, lim.value, lim.at_cap ? " (search cap)" : "", theory);
-      steps_csv += std::string(m.name) + "," + number(k) + "," + number(w) + "," + number(lim.value) + "," +
-                   number(theory) + "," + (lim.at_cap ? "bounded_at_cap" : "limit") + "," +
-                   number(std::isfinite(theory) ? lim.value / theory : NAN) + "\n";
+      steps_csv += std::string(m.name) + "," + csv_number(k) + "," + csv_number(w) + "," + csv_number(lim.value) + "," +
+                   csv_number(theory) + "," + (lim.at_cap ? "bounded_at_cap" : "limit") + "," +
+                   csv_number(std::isfinite(theory) ? lim.value / theory : NAN) + "\n";
     }
   }
 
@@ -207,8 +197,8 @@ int study_stability(int argc, char** argv) {
         guess * cap_hw * cap_hw, tolerance);
     std::fprintf(stderr, "  %-10s h=%g s: largest bounded stiffness %.5g N/m%s, theory %.5g N/m\n", m.name,
                  fixed_step, lim.value, lim.at_cap ? " (search cap)" : "", theory);
-    stiff_csv += std::string(m.name) + "," + number(fixed_step) + "," + number(lim.value) + "," + number(theory) +
-                 "," + number(std::isfinite(theory) ? lim.value / theory : NAN) + "," +
+    stiff_csv += std::string(m.name) + "," + csv_number(fixed_step) + "," + csv_number(lim.value) + "," + csv_number(theory) +
+                 "," + csv_number(std::isfinite(theory) ? lim.value / theory : NAN) + "," +
                  (lim.at_cap ? "bounded_at_cap" : "limit") + "\n";
   }
 
