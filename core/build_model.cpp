@@ -6,6 +6,7 @@
 #include "core/csr.h"
 #include "core/error.h"
 #include "core/grid.h"
+#include "core/spring_chunks.h"
 #include "core/topology.h"
 #include "core/transform.h"
 
@@ -153,6 +154,9 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
     for (std::size_t k = 0; k < entry.size(); ++k) entry[k] = Index(k / 3);
     build_csr(m.particle_count, owner, entry, m.particle_tri_offset, m.particle_tri_index);
   }
+
+  // Each spring computed once and no per-spring buffer, where the spring order allows it (docs/performance.md).
+  if (build_spring_chunks(m)) m.spring_layout = SpringLayout::blocked;
 
   out.state = make_state(m, std::move(positions));
   return out;

@@ -21,6 +21,7 @@ inline constexpr std::array<const char*, spring_kind_count> spring_kind_names{
 enum class SpringLayout {
   gather,     // per particle over a CSR of incident springs: each spring computed twice
   two_phase,  // each spring once into a per-spring buffer, then a per-particle gather of those
+  blocked,    // each spring once, scattered into f by chunks; chunks of one pass touch disjoint particles
 };
 
 // What output and reporting need of one cloth; kept out of the arrays the kernels stream.
@@ -59,6 +60,11 @@ struct Model {
   std::vector<Index> particle_spring_offset;  // (particle_count + 1)
   std::vector<Index> particle_spring_index;   // (2 * spring_count)
   SpringLayout spring_layout = SpringLayout::gather;  // default chosen by bench/spring_layout_bench.cpp
+  // blocked layout (core/spring_chunks.h): chunks of consecutive springs, grouped into passes whose chunks touch
+  // disjoint particle ranges, so one pass scatters into f in parallel without races (empty for other layouts)
+  std::vector<Index> spring_chunk_offset;     // first spring of each chunk (chunk count + 1)
+  std::vector<Index> spring_pass_offset;      // first entry of each pass in spring_pass_chunk (pass count + 1)
+  std::vector<Index> spring_pass_chunk;       // chunk indices, pass by pass (chunk count)
 
   // --- triangles
   Index tri_count = 0;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace clothsim::test {
 
@@ -32,7 +33,8 @@ inline CliResult run_cli(const std::string& args) {
 
 // A fresh scratch folder under the build tree's temp dir, removed and recreated for each test.
 inline std::filesystem::path scratch_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / "clothsim_tests" / name;
+  // One tree per test process: several checkouts (or ctest -j) on one machine must not share folders.
+  const auto dir = std::filesystem::temp_directory_path() / ("clothsim_tests." + std::to_string(::getpid())) / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

@@ -1,5 +1,6 @@
-// clothsim study <name>: dispatches to the studies of tools/studies.h.
+// clothsim study <name> ...: dispatches to one study (tools/studies.h).
 #include <cstdio>
+#include <cstring>
 #include <string>
 
 #include "tools/cli_args.h"
@@ -7,27 +8,25 @@
 #include "tools/studies.h"
 
 namespace clothsim::cli {
-namespace {
-
-const char* study_help =
-    "usage: clothsim study <name> [--out DIR] [--quick]\n"
-    "  accuracy   error against CPU time and time step for every integrator (docs/accuracy.md)\n"
-    "  stability  largest stable time step and stiffness of every integrator, against theory\n"
-    "  --out DIR  where the CSV files and the PNG/SVG charts go (default: study-<name>)\n"
-    "  --quick    smaller problems and looser tolerances: seconds instead of minutes, for the tests\n"
-    "Charts need gnuplot (tools/setup installs it); without it the CSV files are still written.";
-
-}  // namespace
 
 int cmd_study(int argc, char** argv) {
-  if (argc < 1 || std::string(argv[0]) == "--help" || std::string(argv[0]) == "-h") {
-    std::puts(study_help);
+  const char* help =
+      "usage: clothsim study <name> [options]\n"
+      "studies:\n"
+      "  accuracy [--out DIR] [--quick]             error against CPU time and time step, every integrator\n"
+      "  stability [--out DIR] [--quick]            largest stable time step and stiffness against theory\n"
+      "  scaling SCENE.xml --threads 1,2,4 [--weak]  speed-up and efficiency against threads\n"
+      "Run 'clothsim study <name> --help' for the options of a study. The accuracy and stability charts need\n"
+      "gnuplot (tools/setup installs it); without it their CSV files are still written.";
+  if (argc < 1 || !std::strcmp(argv[0], "--help") || !std::strcmp(argv[0], "-h")) {
+    std::puts(help);
     return argc < 1 ? exit_bad_input : exit_ok;
   }
   const std::string name = argv[0];
   if (name == "accuracy") return study_accuracy(argc - 1, argv + 1);
   if (name == "stability") return study_stability(argc - 1, argv + 1);
-  throw UsageError("unknown study '" + name + "'; expected accuracy or stability");
+  if (name == "scaling") return study_scaling(argc - 1, argv + 1);
+  throw UsageError("unknown study '" + name + "'; expected one of: accuracy, stability, scaling");
 }
 
 }  // namespace clothsim::cli

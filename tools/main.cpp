@@ -16,7 +16,7 @@ const char* usage =
     "  run SCENE.xml       simulate and write one OBJ per frame\n"
     "  validate SCENE.xml  check a scene without simulating\n"
     "  info MESH.obj       mesh and spring counts, topology checks\n"
-    "  study NAME          accuracy and stability studies of the integrators, with charts\n"
+    "  study NAME ...      studies: accuracy, stability (integrators), scaling (threads)\n"
     "Run 'clothsim <command> --help' for the options of a command.\n";
 
 }  // namespace

@@ -1,0 +1,59 @@
+// The CI gate's workload (issue 7 §5): each kernel once on the fixed 64 x 64 sheet at one thread, each inside
+// its own callgrind collection window and dumped under the kernel's name. Run by bench/gate under
+// `valgrind --tool=callgrind --collect-atstart=no`; outside valgrind the client requests do nothing.
+#include <tbb/global_control.h>
+#include <valgrind/callgrind.h>
+
+#include <cstdio>
+#include <string>
+
+#include "bench/sheet_scene.h"
+#include "io/obj_writer.h"
+#include "systems/normals.h"
+#include "systems/spring_forces.h"
+#include "systems/step.h"
+
+using namespace clothsim;
+
+namespace {
+
+// Counts the instructions of `body` alone and dumps them as "gate <name>".
+template <class Body>
+void measure(const char* name, Body&& body) {
+  CALLGRIND_ZERO_STATS;
+  CALLGRIND_TOGGLE_COLLECT;
+  body();
+  CALLGRIND_TOGGLE_COLLECT;
+  const std::string label = std::string("gate ") + name;
+  CALLGRIND_DUMP_STATS_AT(label.c_str());
+}
+
+}  // namespace
+
+int main() {
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  constexpr int n = 64;
+  BuiltScene sym = bench::build_sheet(n, Integrator::symplectic);
+  BuiltScene rk4 = bench::build_sheet(n, Integrator::rk4);
+  const Model& m = sym.model;
+  Workspace ws = make_workspace(m), ws_rk4 = make_workspace(rk4.model);
+  State scratch = sym.state, scratch_rk4 = rk4.state;
+  std::vector<Vec3> per_spring(m.spring_count);
+  // Warm-up outside the windows: a few steps so the sheet is strained, and TBB's arena is started.
+  for (int k = 0; k < 5; ++k) {
+    step(m, sym.state, scratch, ws, m.dt);
+    std::swap(sym.state, scratch);
+  }
+  rk4.state = sym.state;
+
+  std::size_t sink = 0;
+  measure("springs_gather", [&] { eval_springs_gather(m, sym.state.x, sym.state.v, ws.f); });
+  measure("springs_blocked", [&] { eval_springs_blocked(m, sym.state.x, sym.state.v, ws.f); });
+  measure("springs_two_phase", [&] { eval_springs_two_phase(m, sym.state.x, sym.state.v, ws.f, per_spring); });
+  measure("step_symplectic", [&] { step(m, sym.state, scratch, ws, m.dt); });
+  measure("step_rk4", [&] { step(rk4.model, rk4.state, scratch_rk4, ws_rk4, rk4.model.dt); });
+  measure("normals", [&] { eval_normals(m, sym.state.x, ws.normal); });
+  measure("obj_frame", [&] { sink += io::format_frame(m, m.cloths[0], sym.state.x, ws.normal, 1).size(); });
+  std::printf("gate workload done (%zu bytes of OBJ)\n", sink);
+  return 0;
+}

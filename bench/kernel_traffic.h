@@ -1,0 +1,57 @@
+#pragma once
+// Compulsory traffic and work of each kernel per item, the figures docs/performance.md's roofline uses.
+// Bytes count each array element a kernel must stream once (neighbour positions re-read from cache are free);
+// they assume the uniform stiffness/damping of the bench sheet (ParamField stride 0, no per-spring array).
+#include <cstdint>
+
+#include "core/model.h"
+
+namespace clothsim::bench {
+
+constexpr double vec3_bytes = 3 * sizeof(Real);
+constexpr double index_bytes = sizeof(Index);
+
+// gather: per particle x, v read, f written, one offset; per spring two CSR entries, each reading a, b, rest.
+inline double bytes_springs_gather(const Model& m) {
+  return m.particle_count * (3 * vec3_bytes + index_bytes) +
+         m.spring_count * 2 * (index_bytes + 2 * index_bytes + sizeof(Real));
+}
+// two_phase: phase 1 reads x, v, a, b, rest and writes the spring force; phase 2 reads two CSR entries and the
+// force once (the second end hits cache), and writes f.
+inline double bytes_springs_two_phase(const Model& m) {
+  return m.particle_count * (3 * vec3_bytes + index_bytes) +
+         m.spring_count * (2 * index_bytes + sizeof(Real) + vec3_bytes + 2 * index_bytes + vec3_bytes);
+}
+// blocked: per particle x, v read once (neighbours within a chunk hit cache), f zeroed and then read-modified-
+// written; per spring a, b, rest.
+inline double bytes_springs_blocked(const Model& m) {
+  return m.particle_count * 5 * vec3_bytes + m.spring_count * (2 * index_bytes + sizeof(Real));
+}
+inline double bytes_springs(const Model& m, SpringLayout layout) {
+  switch (layout) {
+    case SpringLayout::gather: return bytes_springs_gather(m);
+    case SpringLayout::two_phase: return bytes_springs_two_phase(m);
+    case SpringLayout::blocked: return bytes_springs_blocked(m);
+  }
+  return 0;
+}
+// external forces: read f, v, inv_mass, write f.  symplectic integrate: read x, v, a, write x, v.
+inline double bytes_external(const Model& m) { return m.particle_count * (3 * vec3_bytes + sizeof(Real)); }
+inline double bytes_integrate(const Model& m) { return m.particle_count * 5 * vec3_bytes; }
+// One symplectic step with the model's layout.
+inline double bytes_step_symplectic(const Model& m) {
+  const double springs = bytes_springs(m, m.spring_layout);
+  return springs + bytes_external(m) + bytes_integrate(m);
+}
+// RK4: four force stages and four per-particle update passes (each reads/writes about 8 Vec3 per particle).
+inline double bytes_step_rk4(const Model& m) {
+  const double springs = bytes_springs(m, m.spring_layout);
+  return 4 * (springs + bytes_external(m)) + 4 * m.particle_count * 8 * vec3_bytes;
+}
+// normals: per particle reads x of the incident triangles (cache), CSR offset, writes the normal; per triangle
+// three CSR entries and three corner indices.
+inline double bytes_normals(const Model& m) {
+  return m.particle_count * (2 * vec3_bytes + index_bytes) + m.tri_count * 3 * (index_bytes + 3 * index_bytes);
+}
+
+}  // namespace clothsim::bench

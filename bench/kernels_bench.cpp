@@ -1,0 +1,138 @@
+// Per-kernel benchmarks on 64^2, 256^2 and 1024^2 sheets (issue 7 §1), in the style of MuJoCo's step
+// benchmark: build once, warm up, save the state, restore it before each timed batch. Second argument: threads.
+// Counters: items_per_second (springs/s or particle-steps/s) and bytes_per_second (kernel_traffic.h's model).
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <map>
+#include <memory>
+
+#include "bench/kernel_traffic.h"
+#include "bench/sheet_scene.h"
+#include "io/obj_writer.h"
+#include "systems/normals.h"
+#include "systems/spring_forces.h"
+#include "systems/step.h"
+
+namespace clothsim::bench {
+namespace {
+
+struct Fixture {
+  BuiltScene built;
+  Workspace ws;
+  State warm;  // the state after warm-up, restored before each batch
+};
+
+// One fixture per (size, integrator), built on first use: the 1024^2 sheet takes seconds to build.
+Fixture& fixture(int n, Integrator integ) {
+  static std::map<std::pair<int, int>, std::unique_ptr<Fixture>> cache;
+  auto& slot = cache[{n, int(integ)}];
+  if (!slot) {
+    slot = std::make_unique<Fixture>();
+    slot->built = build_sheet(n, integ);
+    slot->ws = make_workspace(slot->built.model);
+    State scratch = slot->built.state;
+    // Warm-up: a few steps so the sheet is strained and moving, not at rest (rest springs are cheaper for none
+    // of the kernels, but a moving state is the honest one).
+    for (int k = 0; k < 5; ++k) {
+      step(slot->built.model, slot->built.state, scratch, slot->ws, slot->built.model.dt);
+      std::swap(slot->built.state, scratch);
+    }
+    slot->warm = slot->built.state;
+  }
+  return *slot;
+}
+
+void set_counters(benchmark::State& st, double items, double bytes) {
+  st.SetItemsProcessed(int64_t(items * double(st.iterations())));
+  st.SetBytesProcessed(int64_t(bytes * double(st.iterations())));
+}
+
+void BM_springs(benchmark::State& st, SpringLayout layout) {
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, st.range(1));
+  Fixture& fx = fixture(int(st.range(0)), Integrator::symplectic);
+  const Model& m = fx.built.model;
+  const State& s = fx.warm;
+  std::vector<Vec3> scratch(m.spring_count);  // two_phase's buffer, owned here so every layout runs on one model
+  auto run = [&] {
+    if (layout == SpringLayout::gather) eval_springs_gather(m, s.x, s.v, fx.ws.f);
+    else if (layout == SpringLayout::blocked) eval_springs_blocked(m, s.x, s.v, fx.ws.f);
+    else eval_springs_two_phase(m, s.x, s.v, fx.ws.f, scratch);
+  };
+  run();  // warm-up: the scratch pages are touched outside the timing
+  for (auto _ : st) {
+    run();
+    benchmark::ClobberMemory();
+  }
+  set_counters(st, m.spring_count, bytes_springs(m, layout));
+}
+
+// A batch of steps from the saved state; the restore is outside the timing.
+void BM_step(benchmark::State& st, Integrator integ) {
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, st.range(1));
+  Fixture& fx = fixture(int(st.range(0)), integ);
+  const Model& m = fx.built.model;
+  State a = fx.warm, b = fx.warm;
+  constexpr int batch = 4;
+  for (auto _ : st) {
+    st.PauseTiming();
+    a.x = fx.warm.x;
+    a.v = fx.warm.v;
+    st.ResumeTiming();
+    for (int k = 0; k < batch; ++k) {
+      step(m, a, b, fx.ws, m.dt);
+      std::swap(a, b);
+    }
+    benchmark::ClobberMemory();
+  }
+  set_counters(st, double(batch) * m.particle_count,
+               batch * (integ == Integrator::rk4 ? bytes_step_rk4(m) : bytes_step_symplectic(m)));
+}
+
+void BM_normals(benchmark::State& st) {
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, st.range(1));
+  Fixture& fx = fixture(int(st.range(0)), Integrator::symplectic);
+  const Model& m = fx.built.model;
+  for (auto _ : st) {
+    eval_normals(m, fx.warm.x, fx.ws.normal);
+    benchmark::ClobberMemory();
+  }
+  set_counters(st, m.particle_count, bytes_normals(m));
+}
+
+// One OBJ frame formatted to memory (the file write itself is the disk's speed, not ours); bytes = text size.
+void BM_obj_frame(benchmark::State& st) {
+  Fixture& fx = fixture(int(st.range(0)), Integrator::symplectic);
+  const Model& m = fx.built.model;
+  eval_normals(m, fx.warm.x, fx.ws.normal);
+  std::size_t size = 0;
+  for (auto _ : st) {
+    const std::string text = io::format_frame(m, m.cloths[0], fx.warm.x, fx.ws.normal, 1);
+    size = text.size();
+    benchmark::DoNotOptimize(text.data());
+  }
+  set_counters(st, m.particle_count, double(size));
+}
+
+// Sizes x threads: 1 thread and every core; the 1024^2 sheet only where the issue's targets need it.
+void sizes_threads(benchmark::internal::Benchmark* b) {
+  const int all = tbb::info::default_concurrency();
+  for (int n : {64, 256, 1024})
+    for (int t : {1, all}) {
+      b->Args({n, t});
+      if (all == 1) break;
+    }
+  b->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+
+BENCHMARK_CAPTURE(BM_springs, gather, SpringLayout::gather)->Apply(sizes_threads);
+BENCHMARK_CAPTURE(BM_springs, two_phase, SpringLayout::two_phase)->Apply(sizes_threads);
+BENCHMARK_CAPTURE(BM_springs, blocked, SpringLayout::blocked)->Apply(sizes_threads);
+BENCHMARK_CAPTURE(BM_step, symplectic, Integrator::symplectic)->Apply(sizes_threads);
+BENCHMARK_CAPTURE(BM_step, rk4, Integrator::rk4)->Apply(sizes_threads);
+BENCHMARK(BM_normals)->Apply(sizes_threads);
+BENCHMARK(BM_obj_frame)->Arg(64)->Arg(256)->Arg(1024)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace clothsim::bench
