@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "core/csr.h"
+#include "core/build_collision.h"
 #include "core/error.h"
 #include "core/grid.h"
 #include "core/spring_chunks.h"
@@ -178,6 +179,7 @@ Workspace make_workspace(const Model& model) {
     ws.stage_v.assign(model.particle_count, Vec3::Zero());
   }
   ws.normal.assign(model.particle_count, Vec3::Zero());
+  make_collision_workspace(model, ws.collision);
   return ws;
 }
 

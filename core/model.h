@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/collision_model.h"
 #include "core/math.h"
 #include "core/param_field.h"
 #include "core/scene_desc.h"
@@ -87,6 +88,7 @@ struct Model {
   int start_frame = 1, end_frame = 1;
 
   std::vector<ClothInfo> cloths;
+  CollisionModel collision;             // empty unless the scene has colliders or self-collision
 
   bool needs_normals() const { return wind_strength != 0; }
 };
@@ -105,6 +107,8 @@ struct Workspace {
   std::vector<Vec3> normal;        // unit vertex normals for wind and output (particle_count)
   int force_evaluations = 0;       // counted for the studies
   double seconds_forces = 0, seconds_integrate = 0;
+  CollisionScratch collision;      // sized only when model.collision.enabled
+  double seconds_collide = 0;
 };
 
 // Sizes the workspace for a model; nothing inside step allocates afterwards.

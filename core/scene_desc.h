@@ -10,6 +10,8 @@
 namespace clothsim {
 
 enum class Integrator { euler, symplectic, rk4 };
+// Broad phase of the collision stage (docs/performance.md compares them).
+enum class BroadPhase { hash, bvh };
 
 struct SimulationDesc {
   Real timestep = 0.001;       // s, requested; the step used divides a frame evenly (steps_per_frame)
@@ -19,6 +21,7 @@ struct SimulationDesc {
   Integrator integrator = Integrator::symplectic;
   Vec3 gravity{0, -9.81, 0};   // m/s^2
   int collision_iterations = 2;
+  BroadPhase broad_phase = BroadPhase::hash;
 };
 
 struct RandomForceDesc {
@@ -63,12 +66,30 @@ struct ClothDesc {
   std::vector<Index> pins;    // vertex indices held fixed
 };
 
+// A collider: <static obj|sequence>, <sphere> or <plane>. Meshes are one-sided: the outside is where the
+// counter-clockwise triangle normals point.
+enum class ColliderShape { mesh, sequence, sphere, plane };
+struct ColliderDesc {
+  std::string name;
+  int line = 0;                 // line of the element, for error messages
+  ColliderShape shape = ColliderShape::mesh;
+  std::string obj;              // mesh path (resolved against the scene folder)
+  std::string sequence;         // frame path pattern, '#' run = zero-padded frame number (resolved)
+  Vec3 center{0, 0, 0};         // sphere centre, m
+  Real radius = 1;              // sphere radius, m
+  Vec3 point{0, 0, 0};          // a point of the plane, m
+  Vec3 normal{0, 1, 0};         // plane normal, pointing to the free side
+  Real friction = 0.3;          // Coulomb coefficient; a contact uses the mean with the cloth's
+  TransformDesc transform;
+};
+
 struct SceneDesc {
   std::string path;           // the scene file
   std::string base_dir;       // folder relative paths are resolved against
   SimulationDesc simulation;
   ForcesDesc forces;
   std::vector<ClothDesc> cloths;
+  std::vector<ColliderDesc> colliders;
 };
 
 // Steps per frame: ceil(1/(fps*timestep)) with a relative tolerance, so 1/(24*(1/240)) is 10, not 11.

@@ -142,7 +142,8 @@ std::string resolve(const std::string& base, const std::string& p) {
 
 void read_simulation(const std::string& file, const std::string& text, pugi::xml_node n, SimulationDesc& sim) {
   ElementReader r(file, text, n,
-                  {"timestep", "fps", "startFrame", "endFrame", "integrator", "gravity", "collisionIterations"});
+                  {"timestep", "fps", "startFrame", "endFrame", "integrator", "gravity", "collisionIterations",
+                   "broadPhase"});
   sim.timestep = r.positive("timestep", sim.timestep, "s");
   sim.fps = r.positive("fps", sim.fps, "frames per second");
   sim.start_frame = r.integer("startFrame", sim.start_frame);
@@ -160,6 +161,10 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
   sim.gravity = r.vec3("gravity", sim.gravity);
   sim.collision_iterations = r.integer("collisionIterations", sim.collision_iterations);
   if (sim.collision_iterations < 0) r.bad("collisionIterations", "an integer >= 0");
+  const std::string broad = r.text("broadPhase", "hash");
+  if (broad == "hash") sim.broad_phase = BroadPhase::hash;
+  else if (broad == "bvh") sim.broad_phase = BroadPhase::bvh;
+  else r.bad("broadPhase", "hash or bvh");
 }
 
 void read_forces(const std::string& file, const std::string& text, pugi::xml_node n, ForcesDesc& f) {
@@ -193,6 +198,58 @@ void read_forces(const std::string& file, const std::string& text, pugi::xml_nod
   }
 }
 
+// translate, rotate and scale: the same attributes on cloths and colliders.
+void read_transform(const ElementReader& r, TransformDesc& t) {
+  t.translate = r.vec3("translate", t.translate);
+  t.rotate = r.vec3("rotate", t.rotate);
+  if (r.has("scale")) {
+    const auto s = r.numbers("scale", 0, "one non-zero number or three \"sx sy sz\"");
+    if (s.size() != 1 && s.size() != 3) r.bad("scale", "one non-zero number or three \"sx sy sz\"");
+    t.scale = s.size() == 1 ? Vec3(s[0], s[0], s[0]) : Vec3(s[0], s[1], s[2]);
+    if (t.scale.cwiseAbs().minCoeff() == 0) r.bad("scale", "one non-zero number or three \"sx sy sz\"");
+  }
+}
+
+// <static obj|sequence>, <sphere>, <plane>: one collider each.
+void read_collider(const std::string& file, const std::string& text, const std::string& base, pugi::xml_node n,
+                   ColliderDesc& c, int index) {
+  const std::string kind = n.name();
+  auto reader = [&]() -> ElementReader {
+    if (kind == "static")
+      return ElementReader(file, text, n, {"name", "friction", "translate", "rotate", "scale", "obj", "sequence"});
+    if (kind == "sphere")
+      return ElementReader(file, text, n, {"name", "friction", "translate", "rotate", "scale", "center", "radius"});
+    return ElementReader(file, text, n, {"name", "friction", "translate", "rotate", "scale", "point", "normal"});
+  };
+  const ElementReader r = reader();
+  c.line = r.line();
+  c.name = r.text("name", kind + std::to_string(index));
+  c.friction = r.non_negative("friction", c.friction, "Coulomb coefficient");
+  read_transform(r, c.transform);
+  if (kind == "static") {
+    if (r.has("obj") == r.has("sequence"))
+      r.fail("expected exactly one of obj=\"mesh.obj\" or sequence=\"body.####.obj\"");
+    if (r.has("obj")) {
+      c.shape = ColliderShape::mesh;
+      c.obj = resolve(base, r.text("obj"));
+    } else {
+      c.shape = ColliderShape::sequence;
+      c.sequence = resolve(base, r.text("sequence"));
+      if (std::filesystem::path(c.sequence).filename().string().find('#') == std::string::npos)
+        r.bad("sequence", "a file pattern with a run of '#' for the frame number, e.g. body.####.obj");
+    }
+  } else if (kind == "sphere") {
+    c.shape = ColliderShape::sphere;
+    c.center = r.vec3("center", c.center);
+    c.radius = r.positive("radius", c.radius, "m");
+  } else {
+    c.shape = ColliderShape::plane;
+    c.point = r.vec3("point", c.point);
+    c.normal = r.vec3("normal", c.normal);
+    if (!(c.normal.norm() > 0)) r.bad("normal", "a non-zero vector \"x y z\"");
+  }
+}
+
 void read_cloth(const std::string& file, const std::string& text, const std::string& base, pugi::xml_node n,
                 ClothDesc& c, int index) {
   ElementReader r(file, text, n,
@@ -222,14 +279,7 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
   if (c.save_name.empty() || c.save_name.find('/') != std::string::npos)
     r.bad("saveName", "a file name without '/'");
   c.texture = r.text("texture");
-  c.transform.translate = r.vec3("translate", c.transform.translate);
-  c.transform.rotate = r.vec3("rotate", c.transform.rotate);
-  if (r.has("scale")) {
-    const auto s = r.numbers("scale", 0, "one non-zero number or three \"sx sy sz\"");
-    if (s.size() != 1 && s.size() != 3) r.bad("scale", "one non-zero number or three \"sx sy sz\"");
-    c.transform.scale = s.size() == 1 ? Vec3(s[0], s[0], s[0]) : Vec3(s[0], s[1], s[2]);
-    if (c.transform.scale.cwiseAbs().minCoeff() == 0) r.bad("scale", "one non-zero number or three \"sx sy sz\"");
-  }
+  read_transform(r, c.transform);
   c.friction = r.non_negative("friction", c.friction, "Coulomb coefficient");
   c.restitution = r.non_negative("restitution", c.restitution, "0..1");
   if (c.restitution > 1) r.bad("restitution", "a number in [0, 1]");
@@ -297,8 +347,13 @@ SceneDesc read_scene(const std::string& path) {
     } else if (name == "cloth") {
       scene.cloths.emplace_back();
       read_cloth(path, text, scene.base_dir, n, scene.cloths.back(), int(scene.cloths.size()) - 1);
+    } else if (name == "static" || name == "sphere" || name == "plane") {
+      scene.colliders.emplace_back();
+      read_collider(path, text, scene.base_dir, n, scene.colliders.back(), int(scene.colliders.size()) - 1);
     } else {
-      ElementReader::unknown_element(path, text, n, "unknown element in <scene>; expected simulation, forces or cloth");
+      ElementReader::unknown_element(path, text, n,
+                                     "unknown element in <scene>; expected simulation, forces, cloth, static, sphere "
+                                     "or plane");
     }
   }
   if (scene.cloths.empty()) throw Error(path, "no <cloth> element; expected at least one cloth");

@@ -26,12 +26,22 @@ std::string format_stats(const Model& m, const RunStats& s) {
       .field("topology", s.topology_seconds)
       .field("forces", s.forces_seconds)
       .field("integrate", s.integrate_seconds)
-      .field("write", s.write_seconds)
-      .end_object();
+      .field("write", s.write_seconds);
+  if (m.collision.enabled) j.field("collide", s.collide_seconds);
+  j.end_object();
   j.field("peak_rss_bytes", s.peak_rss_bytes);
   j.key("frames").begin_array();
-  for (const FrameStats& f : s.frames)
-    j.begin_object().field("frame", f.frame).field("max_strain", f.max_strain).field("kinetic_energy", f.kinetic_energy).end_object();
+  for (const FrameStats& f : s.frames) {
+    j.begin_object().field("frame", f.frame).field("max_strain", f.max_strain).field("kinetic_energy", f.kinetic_energy);
+    if (m.collision.enabled) {
+      j.field("contacts", f.contacts).field("penetrations", f.penetrations);
+      j.key("collider_distance").begin_object();
+      for (std::size_t c = 0; c < f.collider_distance.size(); ++c)
+        j.field(m.collision.colliders[c].name, f.collider_distance[c]);
+      j.end_object();
+    }
+    j.end_object();
+  }
   j.end_array().end_object();
   return j.str() + "\n";
 }

@@ -11,6 +11,10 @@ struct FrameStats {
   int frame = 0;
   Real max_strain = 0;      // largest (|d| - rest)/rest over all springs
   Real kinetic_energy = 0;  // J
+  // Collisions (written only when the scene has colliders or self-collision):
+  long long contacts = 0;                 // contacts found in the first collision pass of this frame's steps
+  std::vector<Real> collider_distance;    // smallest cloth-to-collider distance, m (one per collider)
+  long long penetrations = 0;             // independent check: vertices inside colliders + crossing triangle pairs
 };
 
 struct RunStats {
@@ -20,6 +24,7 @@ struct RunStats {
   int frames_written = 0;
   double wall_seconds = 0;
   double load_seconds = 0, topology_seconds = 0, forces_seconds = 0, integrate_seconds = 0, write_seconds = 0;
+  double collide_seconds = 0;
   long long force_evaluations = 0;
   long long peak_rss_bytes = 0;
   std::string status = "ok";  // ok | diverged

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <utility>
 
+#include "systems/collide.h"
 #include "systems/forces.h"
 #include "systems/integrate_explicit.h"
 #include "systems/integrate_rk4.h"
@@ -11,7 +12,7 @@ namespace clothsim {
 
 void step(const Model& model, const State& in, State& out, Workspace& ws, Real h) {
   const auto t0 = std::chrono::steady_clock::now();
-  const double forces_before = ws.seconds_forces;
+  const double forces_before = ws.seconds_forces, collide_before = ws.seconds_collide;
   switch (model.integrator) {
     case Integrator::euler:
       eval_forces(model, in.x, in.v, in.step, ws);
@@ -25,10 +26,11 @@ void step(const Model& model, const State& in, State& out, Workspace& ws, Real h
       integrate_rk4(model, in, out, ws, h);
       break;
   }
+  collide(model, in, out, ws, h);
   out.time = in.time + h;
   out.step = in.step + 1;
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  ws.seconds_integrate += total - (ws.seconds_forces - forces_before);
+  ws.seconds_integrate += total - (ws.seconds_forces - forces_before) - (ws.seconds_collide - collide_before);
 }
 
 void step_frame(const Model& model, State& state, State& scratch, Workspace& ws) {

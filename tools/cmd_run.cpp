@@ -13,6 +13,7 @@
 #include "io/atomic_file.h"
 #include "io/obj_writer.h"
 #include "io/stats_json.h"
+#include "systems/collision_check.h"
 #include "systems/diagnostics.h"
 #include "systems/normals.h"
 #include "systems/spring_forces.h"
@@ -31,6 +32,7 @@ const char* run_help =
     "  --threads N        worker threads (default: all cores); output is identical for any N\n"
     "  --frames A:B       write frames A..B only (simulation still starts at the scene's startFrame)\n"
     "  --stats FILE.json  counts, timings by phase, peak memory, per-frame strain and kinetic energy\n"
+    "                     (with collisions: contacts, cloth-collider distances, penetrations)\n"
     "  --quiet            no progress on stderr\n"
     "Exit codes: 0 done, 2 bad input (file, line and what was expected on stderr), 3 diverged.";
 
@@ -52,6 +54,17 @@ long long peak_rss_bytes() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
   return static_cast<long long>(u.ru_maxrss) * 1024;
+}
+
+// Contacts of the frame's steps, and the independent checks: distances, vertices inside, crossing triangles.
+void add_collision_stats(const Model& model, const State& state, Workspace& ws, io::FrameStats& f) {
+  f.contacts = ws.collision.contacts_found;
+  ws.collision.contacts_found = 0;
+  f.penetrations = count_intersecting_triangles(model, state.x);
+  for (Index c = 0; c < Index(model.collision.colliders.size()); ++c) {
+    f.collider_distance.push_back(min_collider_distance(model, state.x, ws.collision, c));
+    f.penetrations += count_inside(model, state.x, ws.collision, c);
+  }
 }
 
 }  // namespace
@@ -103,7 +116,8 @@ int cmd_run(int argc, char** argv) {
       status = exit_diverged;
       break;
     }
-    stats.frames.push_back({frame, max_spring_strain(model, state.x), kinetic_energy(model, state.v)});
+    stats.frames.push_back({frame, max_spring_strain(model, state.x), kinetic_energy(model, state.v), 0, {}, 0});
+    if (model.collision.enabled && args.has("--stats")) add_collision_stats(model, state, ws, stats.frames.back());
     if (frame < frames.first) continue;
     const auto w0 = std::chrono::steady_clock::now();
     eval_normals(model, state.x, ws.normal);
@@ -121,6 +135,7 @@ int cmd_run(int argc, char** argv) {
   stats.force_evaluations = ws.force_evaluations;
   stats.forces_seconds = ws.seconds_forces;
   stats.integrate_seconds = ws.seconds_integrate;
+  stats.collide_seconds = ws.seconds_collide;
   stats.peak_rss_bytes = peak_rss_bytes();
   stats.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   if (args.has("--stats")) io::write_stats(args.get("--stats"), model, stats);

@@ -1,0 +1,93 @@
+#pragma once
+// What the collision stage needs: the collider table and cloth-side collision topology (immutable, in Model),
+// and the per-step scratch (in Workspace). Empty for a scene without colliders and without self-collision.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+#include "core/scene_desc.h"
+
+namespace clothsim {
+
+struct Aabb {
+  Vec3 lo{0, 0, 0}, hi{0, 0, 0};
+};
+
+struct ColliderInfo {
+  std::string name;
+  ColliderShape shape = ColliderShape::mesh;
+  Real friction = 0;
+  Vec3 center{0, 0, 0};  // sphere, transformed
+  Real radius = 0;
+  Vec3 point{0, 0, 0};   // plane, transformed
+  Vec3 normal{0, 1, 0};  // unit
+  Index vertex_begin = 0, vertex_end = 0;  // rows of CollisionModel::mesh vertices (meshes only)
+  Index tri_begin = 0, tri_end = 0;        // rows of mesh_tri_index / 3
+  int first_frame = 0;                     // sequence: frame number of its first stored frame
+  int frame_count = 0;                     // sequence: frames stored (0 for a static mesh)
+  std::size_t frame_offset = 0;            // sequence: start in frame_x (frame_count * vertex count rows)
+  bool closed = false;                     // every edge has two triangles: the inside test applies
+};
+
+struct CollisionModel {
+  bool enabled = false;            // any collider or any self-colliding cloth
+  bool self_collision = false;     // any self-colliding cloth
+  int iterations = 0;              // detection + response passes per step
+  BroadPhase broad_phase = BroadPhase::hash;
+  std::vector<ColliderInfo> colliders;
+
+  // --- collider meshes, all colliders' vertices and triangles concatenated
+  Index mesh_vertex_count = 0;
+  std::vector<Vec3> mesh_x;          // static positions, m (mesh_vertex_count)
+  std::vector<Index> mesh_tri_index; // into mesh vertices (3 * mesh tris)
+  std::vector<Index> mesh_tri_collider;  // owning collider (mesh tris)
+  std::vector<Vec3> frame_x;         // animated colliders' frames, m (sum of frame_count * vertices)
+  bool animated = false;
+
+  // --- cloth side
+  std::vector<Index> particle_cloth;   // cloth of each particle (particle_count)
+  std::vector<std::uint8_t> tri_self;  // 1 when the triangle's cloth collides with itself (tri_count)
+  std::vector<Index> edge_a, edge_b;   // unique edges of self-colliding cloths (edge count)
+  std::vector<Index> edge_first_tri;   // lowest triangle holding the edge: the one that reports it (edge count)
+  std::vector<Index> tri_edge;         // the three edges of each self-colliding triangle, -1 otherwise (3 * tri_count)
+  Real max_thickness = 0;              // m
+  Real cell_size = 0;                  // spatial hash cell, m
+
+  // --- broad-phase primitives: cloth triangles of self-colliding cloths, then collider triangles
+  // prim id p < tri_count is cloth triangle p; p >= tri_count is collider triangle p - tri_count.
+  std::vector<Index> prim;             // (prim count)
+  // BVH over prims, built once; node n: children node_child[2n], node_child[2n+1]; a leaf holds ~prim index
+  // as a negative value in node_child[2n]. Nodes are in breadth-first order, level l at level_offset[l].
+  std::vector<Index> node_child;       // (2 * node count)
+  std::vector<Index> level_offset;     // (levels + 1)
+};
+
+// Spatial hash after Teschner et al. 2003: entries (bucket, prim, cell) scattered into contiguous bucket ranges.
+struct HashScratch {
+  Index table_size = 0;                 // a prime near twice the entry capacity
+  Index entry_count = 0;
+  std::vector<Index> prim_cells;        // cells of each prim, then its first entry (prim count + 1)
+  std::vector<std::int64_t> entry_cell; // packed cell coordinates, in bucket order (entry capacity)
+  std::vector<Index> entry_prim;        // (entry capacity)
+  std::vector<Index> scatter_prim;      // unsorted entries (entry capacity)
+  std::vector<std::int64_t> scatter_cell;
+  std::vector<Index> scatter_bucket;
+  std::vector<Index> bucket_offset;     // (table_size + 1)
+  std::vector<Index> bucket_fill;       // (table_size)
+};
+
+struct CollisionScratch {
+  std::vector<Vec3> collider_x0, collider_x1;  // collider mesh vertices at the start and end of the step
+  std::vector<Aabb> prim_box;           // swept, thickness-inflated box per prim (prim count)
+  std::vector<Aabb> node_box;           // BVH node boxes (node count)
+  Aabb query_bounds;                    // union of the cloth vertices' swept boxes
+  HashScratch hash;
+  // Per-particle accumulators in fixed point (fixed_scale units): integer sums are exact and associative, so
+  // the averaged response is the same bytes whatever the order the threads add in.
+  std::vector<std::int64_t> acc_dv, acc_dx;  // (3 * particle_count)
+  std::vector<std::int32_t> acc_count;       // (particle_count)
+  std::int64_t contacts_found = 0;           // contacts of the first pass, summed over steps
+};
+
+}  // namespace clothsim

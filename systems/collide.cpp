@@ -1,0 +1,344 @@
+#include "systems/collide.h"
+
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <chrono>
+#include <mutex>
+
+#include "systems/bvh.h"
+#include "systems/ccd.h"
+#include "systems/collision_response.h"
+#include "systems/parallel.h"
+#include "systems/proximity.h"
+#include "systems/spatial_hash.h"
+
+namespace clothsim {
+namespace {
+
+inline constexpr Index contact_grain = 256;
+
+Aabb swept_box(const Vec3& a0, const Vec3& a1) { return {a0.cwiseMin(a1), a0.cwiseMax(a1)}; }
+void grow(Aabb& b, const Vec3& p) { b.lo = b.lo.cwiseMin(p); b.hi = b.hi.cwiseMax(p); }
+
+template <class Visit>
+void for_each_candidate(const Model& m, const CollisionScratch& s, BroadMode mode, const Aabb& q, Visit&& visit) {
+  switch (mode) {
+    case BroadMode::hash: query_spatial_hash(m.collision, s, q, visit); break;
+    case BroadMode::bvh: query_bvh(m.collision, s, q, visit); break;
+    case BroadMode::brute:
+      for (Index slot = 0; slot < Index(m.collision.prim.size()); ++slot)
+        if (boxes_overlap(q, s.prim_box[slot])) visit(slot);
+      break;
+  }
+}
+
+// Corners of a broad-phase prim at the start and end of the step.
+struct PrimCorners {
+  Index p[3];
+  Vec3 x0[3], x1[3];
+  bool cloth;
+};
+PrimCorners corners(const Model& m, const State& in, const State& out, const CollisionScratch& s, Index prim) {
+  PrimCorners c;
+  c.cloth = prim < m.tri_count;
+  for (int k = 0; k < 3; ++k) {
+    if (c.cloth) {
+      c.p[k] = m.tri_index[3 * prim + k];
+      c.x0[k] = in.x[c.p[k]];
+      c.x1[k] = out.x[c.p[k]];
+    } else {
+      c.p[k] = m.collision.mesh_tri_index[3 * (prim - m.tri_count) + k];
+      c.x0[k] = s.collider_x0[c.p[k]];
+      c.x1[k] = s.collider_x1[c.p[k]];
+    }
+  }
+  return c;
+}
+
+// Vertex-triangle and edge-edge proximities of the configuration out (sides taken from in), through one broad
+// phase. on_vertex(i, prim, corners, proximity, d) gets d signed: negative when i crossed to the wrong side;
+// on_edge(e, f, proximity, d) likewise.
+template <class OnVertex, class OnEdge>
+void for_each_proximity(const Model& m, const State& in, const State& out, const CollisionScratch& s,
+                        BroadMode mode, OnVertex&& on_vertex, OnEdge&& on_edge) {
+  const CollisionModel& c = m.collision;
+  if (c.prim.empty()) return;
+  parallel_over(m.particle_count, contact_grain, [&](Index i) {
+    const Real h = m.particle_thickness[i];
+    const bool self = c.self_collision && m.cloths[c.particle_cloth[i]].self_collision;
+    const Aabb q = swept_box(in.x[i], out.x[i]);
+    const Real own_motion = (out.x[i] - in.x[i]).norm();
+    for_each_candidate(m, s, mode, q, [&](Index slot) {
+      const Index prim = c.prim[slot];
+      const PrimCorners t = corners(m, in, out, s, prim);
+      if (t.cloth && (!self || t.p[0] == i || t.p[1] == i || t.p[2] == i)) return;
+      const Vec3& p = out.x[i];
+      const Vec3 tlo = t.x1[0].cwiseMin(t.x1[1]).cwiseMin(t.x1[2]), thi = t.x1[0].cwiseMax(t.x1[1]).cwiseMax(t.x1[2]);
+      if (((p.array() + h + own_motion) < tlo.array()).any() || ((p.array() - h - own_motion) > thi.array()).any())
+        return;
+      TriangleProximity px;
+      if (!vertex_triangle_proximity(out.x[i], t.x1[0], t.x1[1], t.x1[2], h, px)) return;
+      // The side is the one at the start of the step (one-sided for collider meshes: their normals point out).
+      Real side = 1;
+      if (t.cloth) side = (t.x0[1] - t.x0[0]).cross(t.x0[2] - t.x0[0]).dot(in.x[i] - t.x0[0]) < 0 ? -1 : 1;
+      const Real d = side * px.d;
+      Real motion = own_motion;
+      for (int k = 0; k < 3; ++k) motion = std::max(motion, own_motion + (t.x1[k] - t.x0[k]).norm());
+      if (d >= h || d <= -(h + motion)) return;
+      px.n *= side;
+      on_vertex(i, prim, t, px, d);
+    });
+  });
+  if (!c.self_collision) return;
+  parallel_over(Index(c.edge_a.size()), contact_grain, [&](Index e) {
+    const Index a = c.edge_a[e], b = c.edge_b[e];
+    const Real h = m.particle_thickness[a];
+    Aabb q = swept_box(in.x[a], out.x[a]);
+    grow(q, in.x[b]);
+    grow(q, out.x[b]);
+    for_each_candidate(m, s, mode, q, [&](Index slot) {
+      const Index prim = c.prim[slot];
+      if (prim >= m.tri_count) return;
+      for (int k = 0; k < 3; ++k) {
+        const Index f = c.tri_edge[3 * prim + k];
+        if (f <= e || c.edge_first_tri[f] != prim) continue;
+        const Index fa = c.edge_a[f], fb = c.edge_b[f];
+        if (fa == a || fa == b || fb == a || fb == b) continue;
+        // Cheap reject before the closest points: the end-of-step boxes must come within h.
+        const Aabb ea = swept_box(out.x[a], out.x[b]), eb = swept_box(out.x[fa], out.x[fb]);
+        if (((ea.lo.array() - h) > eb.hi.array()).any() || ((eb.lo.array() - h) > ea.hi.array()).any()) continue;
+        EdgeProximity px;
+        if (!edge_edge_proximity(out.x[a], out.x[b], out.x[fa], out.x[fb], px) || px.d >= h) continue;
+        EdgeProximity start;
+        Real d = px.d;
+        if (edge_edge_proximity(in.x[a], in.x[b], in.x[fa], in.x[fb], start) && start.n.dot(px.n) < 0) {
+          px.n = start.n;  // crossed during the step: push back to the side it came from
+          d = -px.d;
+        }
+        on_edge(e, f, px, d);
+      }
+    });
+  });
+}
+
+// Friction and restitution of a contact: the mean of the two sides' friction (Coulomb), the cloth's restitution.
+Real mean_friction(const Model& m, Index i, Index prim) {
+  const CollisionModel& c = m.collision;
+  const Real mine = m.cloths[c.particle_cloth[i]].friction;
+  if (prim < m.tri_count) return 0.5 * (mine + m.cloths[c.particle_cloth[m.tri_index[3 * prim]]].friction);
+  return 0.5 * (mine + c.colliders[c.mesh_tri_collider[prim - m.tri_count]].friction);
+}
+
+// Spheres and planes: exact signed distances, tested against every particle (no broad phase needed).
+void collide_analytic(const Model& m, State& out, CollisionScratch& s, Real h) {
+  const CollisionModel& c = m.collision;
+  bool any = false;
+  for (const ColliderInfo& ci : c.colliders)
+    any = any || ci.shape == ColliderShape::sphere || ci.shape == ColliderShape::plane;
+  if (!any) return;
+  parallel_over(m.particle_count, particle_grain, [&](Index i) {
+    if (m.particle_inv_mass[i] == 0) return;
+    const ClothInfo& cloth = m.cloths[c.particle_cloth[i]];
+    const Real thick = m.particle_thickness[i];
+    for (const ColliderInfo& ci : c.colliders) {
+      Vec3 n;
+      Real d;
+      if (ci.shape == ColliderShape::sphere) {
+        const Vec3 r = out.x[i] - ci.center;
+        const Real len = r.norm();
+        n = len > 0 ? Vec3(r / len) : Vec3(0, 1, 0);
+        d = len - ci.radius;
+      } else if (ci.shape == ColliderShape::plane) {
+        n = ci.normal;
+        d = n.dot(out.x[i] - ci.point);
+      } else {
+        continue;
+      }
+      if (d >= thick) continue;
+      const Vec3 dv =
+          collider_velocity_change(out.v[i], Vec3::Zero(), n, cloth.restitution, 0.5 * (cloth.friction + ci.friction));
+      accumulate_contact(s, i, dv, collider_position_change(dv, n, d, thick, h));
+    }
+  });
+}
+
+// One vertex-triangle contact, normal n towards the vertex's side, end-of-step distance d: the collider response
+// for a collider triangle, the cloth impulse for a cloth one (`restore`: the continuous pass's full correction).
+void respond_vertex_triangle(const Model& m, const State& out, CollisionScratch& s, Index i, Index prim,
+                             const PrimCorners& t, const Real* w, const Vec3& n, Real d, Real h, bool restore) {
+  const Real thick = m.particle_thickness[i];
+  const Real mu = mean_friction(m, i, prim);
+  if (!t.cloth) {
+    Vec3 v_col = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) v_col += w[k] * (t.x1[k] - t.x0[k]) / h;
+    const Vec3 dv = collider_velocity_change(out.v[i], v_col, n, m.cloths[m.collision.particle_cloth[i]].restitution, mu);
+    accumulate_contact(s, i, dv, collider_position_change(dv, n, d, thick, h));
+    return;
+  }
+  const Index p[4] = {i, t.p[0], t.p[1], t.p[2]};
+  const Real wt[4] = {1, -w[0], -w[1], -w[2]};
+  Vec3 dv[4];
+  if (!cloth_impulse(p, wt, 4, m, out.v, n, d, thick, mu, h, dv, restore)) return;
+  for (int k = 0; k < 4; ++k) accumulate_contact(s, p[k], dv[k], h * dv[k]);
+}
+
+void clear_accumulators(const Model& m, CollisionScratch& s) {
+  parallel_over(m.particle_count, particle_grain, [&](Index i) {
+    s.acc_count[i] = 0;
+    for (int k = 0; k < 3; ++k) s.acc_dv[3 * std::size_t(i) + k] = s.acc_dx[3 * std::size_t(i) + k] = 0;
+  });
+}
+
+std::int64_t apply_accumulated(const Model& m, State& out, CollisionScratch& s) {
+  parallel_over(m.particle_count, particle_grain, [&](Index i) {
+    const std::int32_t n = s.acc_count[i];
+    if (n == 0) return;
+    const Real scale = 1.0 / (fixed_scale * n);
+    for (int k = 0; k < 3; ++k) {
+      out.v[i][k] += Real(s.acc_dv[3 * std::size_t(i) + k]) * scale;
+      out.x[i][k] += Real(s.acc_dx[3 * std::size_t(i) + k]) * scale;
+    }
+  });
+  return tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<Index>(0, m.particle_count, particle_grain), std::int64_t(0),
+      [&](const tbb::blocked_range<Index>& r, std::int64_t sum) {
+        for (Index i = r.begin(); i != r.end(); ++i) sum += s.acc_count[i];
+        return sum;
+      },
+      [](std::int64_t a, std::int64_t b) { return a + b; });
+}
+
+// The continuous pass, last (Bridson et al. 2002 §6.2): each cloth vertex against the triangles its swept box
+// meets, along the step's linear trajectories; a hit is sent back to the side the vertex came from (for collider
+// meshes, only hits from the outside count: they are one-sided).
+std::int64_t collide_continuous(const Model& m, const State& in, State& out, CollisionScratch& s, BroadMode mode,
+                                Real h) {
+  const CollisionModel& c = m.collision;
+  clear_accumulators(m, s);
+  parallel_over(m.particle_count, contact_grain, [&](Index i) {
+    const Real thick = m.particle_thickness[i];
+    const bool self = c.self_collision && m.cloths[c.particle_cloth[i]].self_collision;
+    const Aabb q = swept_box(in.x[i], out.x[i]);
+    for_each_candidate(m, s, mode, q, [&](Index slot) {
+      const Index prim = c.prim[slot];
+      const PrimCorners t = corners(m, in, out, s, prim);
+      if (t.cloth && (!self || t.p[0] == i || t.p[1] == i || t.p[2] == i)) return;
+      if (!t.cloth && m.particle_inv_mass[i] == 0) return;
+      const Vec3 x0[4] = {in.x[i], t.x0[0], t.x0[1], t.x0[2]}, x1[4] = {out.x[i], t.x1[0], t.x1[1], t.x1[2]};
+      Real when;
+      TriangleProximity px;
+      if (!vertex_triangle_ccd(x0, x1, thick, when, px)) return;
+      const Real start = (x0[2] - x0[1]).cross(x0[3] - x0[1]).dot(x0[0] - x0[1]);
+      if (!t.cloth && !(start > 0)) return;
+      const Vec3 n = (start < 0 ? -1.0 : 1.0) * (x1[2] - x1[1]).cross(x1[3] - x1[1]).normalized();
+      const Real d = n.dot(x1[0] - x1[1]);
+      if (!std::isfinite(d) || d >= thick) return;
+      respond_vertex_triangle(m, out, s, i, prim, t, px.w, n, d, h, true);
+    });
+  });
+  return apply_accumulated(m, out, s);
+}
+
+}  // namespace
+
+void place_colliders(const Model& m, std::int64_t step, Real h, CollisionScratch& s) {
+  const CollisionModel& c = m.collision;
+  if (!c.animated) return;
+  // Frame number at a time from the step count (not the summed time), so every run lands on the same values.
+  auto at = [&](const ColliderInfo& ci, Real t, std::vector<Vec3>& dst) {
+    const Real local = std::clamp(m.start_frame + t * m.fps - ci.first_frame, Real(0), Real(ci.frame_count - 1));
+    const int f0 = std::min(int(std::floor(local)), ci.frame_count - 1), f1 = std::min(f0 + 1, ci.frame_count - 1);
+    const Real w = local - f0;
+    const Index nv = ci.vertex_end - ci.vertex_begin;
+    const Vec3* a = &c.frame_x[ci.frame_offset + std::size_t(f0) * nv];
+    const Vec3* b = &c.frame_x[ci.frame_offset + std::size_t(f1) * nv];
+    parallel_over(nv, particle_grain, [&](Index k) { dst[ci.vertex_begin + k] = (1 - w) * a[k] + w * b[k]; });
+  };
+  for (const ColliderInfo& ci : c.colliders) {
+    if (ci.shape != ColliderShape::sequence) continue;
+    at(ci, Real(step) * h, s.collider_x0);
+    at(ci, Real(step + 1) * h, s.collider_x1);
+  }
+}
+
+void build_broad_phase(const Model& m, const State& in, const State& out, CollisionScratch& s) {
+  const CollisionModel& c = m.collision;
+  const Real inflate = c.max_thickness;
+  parallel_over(Index(c.prim.size()), 1024, [&](Index slot) {
+    const PrimCorners t = corners(m, in, out, s, c.prim[slot]);
+    Aabb b = swept_box(t.x0[0], t.x1[0]);
+    for (int k = 1; k < 3; ++k) { grow(b, t.x0[k]); grow(b, t.x1[k]); }
+    b.lo.array() -= inflate;
+    b.hi.array() += inflate;
+    s.prim_box[slot] = b;
+  });
+  // Bounds of every cloth vertex's swept box: min/max are exact, so the reduction order does not matter.
+  s.query_bounds = tbb::parallel_reduce(
+      tbb::blocked_range<Index>(0, m.particle_count, particle_grain),
+      Aabb{Vec3::Constant(1e300), Vec3::Constant(-1e300)},
+      [&](const tbb::blocked_range<Index>& r, Aabb b) {
+        for (Index i = r.begin(); i != r.end(); ++i) { grow(b, in.x[i]); grow(b, out.x[i]); }
+        return b;
+      },
+      [](Aabb a, const Aabb& b) { grow(a, b.lo); grow(a, b.hi); return a; });
+  if (c.broad_phase == BroadPhase::bvh) refit_bvh(c, s);
+  else build_spatial_hash(c, s);
+}
+
+void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h) {
+  const CollisionModel& c = m.collision;
+  if (!c.enabled) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  CollisionScratch& s = ws.collision;
+  place_colliders(m, in.step, h, s);
+  const bool broad = !c.prim.empty();
+  if (broad) build_broad_phase(m, in, out, s);
+  const BroadMode mode = c.broad_phase == BroadPhase::bvh ? BroadMode::bvh : BroadMode::hash;
+
+  for (int iter = 0; iter < c.iterations; ++iter) {
+    clear_accumulators(m, s);
+    collide_analytic(m, out, s, h);
+    if (broad) {
+      for_each_proximity(
+          m, in, out, s, mode,
+          [&](Index i, Index prim, const PrimCorners& t, const TriangleProximity& px, Real d) {
+            if (!t.cloth && m.particle_inv_mass[i] == 0) return;
+            respond_vertex_triangle(m, out, s, i, prim, t, px.w, px.n, d, h, false);
+          },
+          [&](Index e, Index f, const EdgeProximity& px, Real d) {
+            const Index p[4] = {c.edge_a[e], c.edge_b[e], c.edge_a[f], c.edge_b[f]};
+            const Real wt[4] = {1 - px.s, px.s, -(1 - px.t), -px.t};
+            const Real mu = m.cloths[c.particle_cloth[p[0]]].friction;
+            Vec3 dv[4];
+            if (!cloth_impulse(p, wt, 4, m, out.v, px.n, d, m.particle_thickness[p[0]], mu, h, dv)) return;
+            for (int k = 0; k < 4; ++k) accumulate_contact(s, p[k], dv[k], h * dv[k]);
+          });
+    }
+    const std::int64_t found = apply_accumulated(m, out, s);
+    if (iter == 0) s.contacts_found += found;
+    if (found == 0) break;
+  }
+  if (broad && c.iterations > 0) collide_continuous(m, in, out, s, mode, h);
+  ws.seconds_collide += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::vector<std::array<Index, 3>> list_proximities(const Model& m, const State& in, const State& out,
+                                                   CollisionScratch& s, BroadMode mode) {
+  std::vector<std::array<Index, 3>> found;
+  std::mutex lock;
+  for_each_proximity(
+      m, in, out, s, mode,
+      [&](Index i, Index prim, const PrimCorners&, const TriangleProximity&, Real) {
+        std::lock_guard g(lock);
+        found.push_back({0, i, prim});
+      },
+      [&](Index e, Index f, const EdgeProximity&, Real) {
+        std::lock_guard g(lock);
+        found.push_back({1, e, f});
+      });
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+}  // namespace clothsim

@@ -1,0 +1,111 @@
+#include "systems/collision_check.h"
+
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <numeric>
+
+#include "systems/parallel.h"
+#include "systems/proximity.h"
+
+namespace clothsim {
+namespace {
+
+template <class T, class PerVertex, class Join>
+T reduce_vertices(Index n, T init, PerVertex&& f, Join&& join) {
+  return tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<Index>(0, n, 1024), init,
+      [&](const tbb::blocked_range<Index>& r, T acc) {
+        for (Index i = r.begin(); i != r.end(); ++i) acc = join(acc, f(i));
+        return acc;
+      },
+      join);
+}
+
+}  // namespace
+
+bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 dir = q - p, e1 = b - a, e2 = c - a;
+  const Vec3 pv = dir.cross(e2);
+  const Real det = e1.dot(pv);
+  // Parallel or coplanar (within rounding): a crossing needs the segment to pierce the plane.
+  if (std::abs(det) <= 1e-10 * dir.norm() * e1.norm() * e2.norm()) return false;
+  const Real inv = 1 / det;
+  const Vec3 tv = p - a;
+  const Real u = tv.dot(pv) * inv;
+  if (u < 0 || u > 1) return false;
+  const Vec3 qv = tv.cross(e1);
+  const Real v = dir.dot(qv) * inv;
+  if (v < 0 || u + v > 1) return false;
+  const Real t = e2.dot(qv) * inv;
+  return t >= 0 && t <= 1;
+}
+
+Real min_collider_distance(const Model& m, std::span<const Vec3> x, const CollisionScratch& s, Index c) {
+  const ColliderInfo& ci = m.collision.colliders[c];
+  auto per_vertex = [&](Index i) -> Real {
+    if (ci.shape == ColliderShape::sphere) return (x[i] - ci.center).norm() - ci.radius;
+    if (ci.shape == ColliderShape::plane) return ci.normal.dot(x[i] - ci.point);
+    Real best = 1e300;
+    for (Index t = ci.tri_begin; t < ci.tri_end; ++t) {
+      const Index* v = &m.collision.mesh_tri_index[3 * t];
+      best = std::min(best, point_triangle_distance(x[i], s.collider_x1[v[0]], s.collider_x1[v[1]], s.collider_x1[v[2]]));
+    }
+    return best;
+  };
+  return reduce_vertices(m.particle_count, Real(1e300), per_vertex, [](Real a, Real b) { return std::min(a, b); });
+}
+
+Index count_inside(const Model& m, std::span<const Vec3> x, const CollisionScratch& s, Index c) {
+  const ColliderInfo& ci = m.collision.colliders[c];
+  if ((ci.shape == ColliderShape::mesh || ci.shape == ColliderShape::sequence) && !ci.closed) return 0;
+  auto per_vertex = [&](Index i) -> Index {
+    if (ci.shape == ColliderShape::sphere) return (x[i] - ci.center).norm() < ci.radius;
+    if (ci.shape == ColliderShape::plane) return ci.normal.dot(x[i] - ci.point) < 0;
+    // Parity of crossings along a long ray in a direction unlikely to graze mesh edges.
+    const Vec3 far = x[i] + Vec3(0.5772, 0.6180, 0.5330).normalized() * 1e4;
+    Index crossings = 0;
+    for (Index t = ci.tri_begin; t < ci.tri_end; ++t) {
+      const Index* v = &m.collision.mesh_tri_index[3 * t];
+      crossings += segment_crosses_triangle(x[i], far, s.collider_x1[v[0]], s.collider_x1[v[1]], s.collider_x1[v[2]]);
+    }
+    return crossings % 2;
+  };
+  return reduce_vertices(m.particle_count, Index(0), per_vertex, [](Index a, Index b) { return a + b; });
+}
+
+Index count_intersecting_triangles(const Model& m, std::span<const Vec3> x) {
+  // Sweep over the triangles sorted by the low x of their boxes: a pair is tested when the x ranges overlap.
+  std::vector<Real> lo(m.tri_count), hi(m.tri_count);
+  std::vector<Index> order(m.tri_count);
+  for (Index t = 0; t < m.tri_count; ++t) {
+    const Real a = x[m.tri_index[3 * t]].x(), b = x[m.tri_index[3 * t + 1]].x(), c = x[m.tri_index[3 * t + 2]].x();
+    lo[t] = std::min({a, b, c});
+    hi[t] = std::max({a, b, c});
+  }
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](Index a, Index b) { return lo[a] < lo[b] || (lo[a] == lo[b] && a < b); });
+  auto per_tri = [&](Index k) -> Index {
+    const Index a = order[k];
+    const Index* pa = &m.tri_index[3 * a];
+    Index hits = 0;
+    for (Index j = k + 1; j < m.tri_count && lo[order[j]] <= hi[a]; ++j) {
+      const Index b = order[j];
+      const Index* pb = &m.tri_index[3 * b];
+      bool adjacent = false;
+      for (int u = 0; u < 3; ++u)
+        for (int w = 0; w < 3; ++w) adjacent = adjacent || pa[u] == pb[w];
+      if (adjacent) continue;
+      bool cross = false;
+      for (int e = 0; e < 3 && !cross; ++e) {
+        cross = segment_crosses_triangle(x[pa[e]], x[pa[(e + 1) % 3]], x[pb[0]], x[pb[1]], x[pb[2]]) ||
+                segment_crosses_triangle(x[pb[e]], x[pb[(e + 1) % 3]], x[pa[0]], x[pa[1]], x[pa[2]]);
+      }
+      hits += cross;
+    }
+    return hits;
+  };
+  return reduce_vertices(m.tri_count, Index(0), per_tri, [](Index a, Index b) { return a + b; });
+}
+
+}  // namespace clothsim

@@ -1,0 +1,98 @@
+#include "systems/spatial_hash.h"
+
+#include <tbb/parallel_scan.h>
+
+#include <atomic>
+
+#include "systems/parallel.h"
+
+namespace clothsim {
+namespace {
+
+using namespace spatial_hash_detail;
+inline constexpr Index prim_grain = 1024;
+
+// In-place exclusive prefix sum; returns the total. Integer sums: the same result at any thread count.
+Index exclusive_scan(std::vector<Index>& a, Index n) {
+  return tbb::parallel_scan(
+      tbb::blocked_range<Index>(0, n, 4096), Index(0),
+      [&](const tbb::blocked_range<Index>& r, Index sum, bool final) {
+        for (Index i = r.begin(); i != r.end(); ++i) {
+          const Index v = a[i];
+          if (final) a[i] = sum;
+          sum += v;
+        }
+        return sum;
+      },
+      [](Index x, Index y) { return x + y; });
+}
+
+}  // namespace
+
+Index next_prime(Index n) {
+  auto is_prime = [](Index p) {
+    if (p < 2) return false;
+    for (Index d = 2; std::int64_t(d) * d <= p; ++d)
+      if (p % d == 0) return false;
+    return true;
+  };
+  while (!is_prime(n)) ++n;
+  return n;
+}
+
+void build_spatial_hash(const CollisionModel& c, CollisionScratch& s) {
+  HashScratch& hs = s.hash;
+  const Index prims = Index(c.prim.size());
+  const Real inv = 1 / c.cell_size;
+  parallel_over(prims, prim_grain, [&](Index slot) {
+    Aabb box;
+    Index n = 0;
+    if (clip(s.prim_box[slot], s.query_bounds, box)) {
+      const Cell lo = cell_of(box.lo, inv), hi = cell_of(box.hi, inv);
+      n = Index((hi.i - lo.i + 1) * (hi.j - lo.j + 1) * (hi.k - lo.k + 1));
+    }
+    hs.prim_cells[slot] = n;
+  });
+  const Index entries = exclusive_scan(hs.prim_cells, prims);
+  hs.prim_cells[prims] = entries;
+  hs.entry_count = entries;
+  if (entries > Index(hs.entry_prim.size()) || hs.table_size == 0) {
+    // Growth happens in the first steps only: later steps reuse the largest arrays seen.
+    const std::size_t cap = std::size_t(entries) + entries / 2 + 64;
+    for (auto* v : {&hs.entry_prim, &hs.scatter_prim, &hs.scatter_bucket}) v->resize(cap);
+    hs.entry_cell.resize(cap);
+    hs.scatter_cell.resize(cap);
+    hs.table_size = next_prime(Index(2 * cap));
+    hs.bucket_offset.resize(std::size_t(hs.table_size) + 1);
+    hs.bucket_fill.resize(hs.table_size);
+  }
+  parallel_over(prims, prim_grain, [&](Index slot) {
+    Aabb box;
+    if (!clip(s.prim_box[slot], s.query_bounds, box)) return;
+    const Cell lo = cell_of(box.lo, inv), hi = cell_of(box.hi, inv);
+    Index o = hs.prim_cells[slot];
+    for (std::int64_t i = lo.i; i <= hi.i; ++i)
+      for (std::int64_t j = lo.j; j <= hi.j; ++j)
+        for (std::int64_t k = lo.k; k <= hi.k; ++k, ++o) {
+          hs.scatter_prim[o] = slot;
+          hs.scatter_cell[o] = pack(i, j, k);
+          hs.scatter_bucket[o] = bucket_of(i, j, k, hs.table_size);
+        }
+  });
+  parallel_over(hs.table_size, 1 << 14, [&](Index b) { hs.bucket_fill[b] = 0; });
+  parallel_over(entries, 1 << 14, [&](Index e) {
+    std::atomic_ref<Index>(hs.bucket_fill[hs.scatter_bucket[e]]).fetch_add(1, std::memory_order_relaxed);
+  });
+  parallel_over(hs.table_size, 1 << 14, [&](Index b) { hs.bucket_offset[b] = hs.bucket_fill[b]; });
+  hs.bucket_offset[hs.table_size] = exclusive_scan(hs.bucket_offset, hs.table_size);
+  parallel_over(hs.table_size, 1 << 14, [&](Index b) { hs.bucket_fill[b] = hs.bucket_offset[b]; });
+  // The order inside a bucket depends on scheduling; every use of the entries sums integers or takes
+  // minima, so results do not.
+  parallel_over(entries, 1 << 14, [&](Index e) {
+    const Index at = std::atomic_ref<Index>(hs.bucket_fill[hs.scatter_bucket[e]]).fetch_add(1, std::memory_order_relaxed);
+    hs.entry_prim[at] = hs.scatter_prim[e];
+    hs.entry_cell[at] = hs.scatter_cell[e];
+  });
+}
+
+}  // namespace clothsim

@@ -1,0 +1,44 @@
+// Continuous detection: the coplanarity cubic and its roots against hand-computed cases.
+#include <doctest/doctest.h>
+
+#include "systems/ccd.h"
+
+using namespace clothsim;
+
+TEST_CASE("cubic roots in [0, 1]: (t - 0.2)(t - 0.5)(t - 0.9) and a cubic without roots there") {
+  // (t - 0.2)(t - 0.5)(t - 0.9) = t^3 - 1.6 t^2 + 0.73 t - 0.09
+  const Real k[4] = {-0.09, 0.73, -1.6, 1};
+  Real r[3];
+  REQUIRE(cubic_roots_01(k, r) == 3);
+  CHECK(r[0] == doctest::Approx(0.2));
+  CHECK(r[1] == doctest::Approx(0.5));
+  CHECK(r[2] == doctest::Approx(0.9));
+  const Real none[4] = {1, 0, 0, 1};  // 1 + t^3 > 0 on [0, 1]
+  CHECK(cubic_roots_01(none, r) == 0);
+}
+
+TEST_CASE("vertex-triangle CCD finds a diagonal crossing that the end-of-step proximity misses") {
+  // Triangle in y = 0 with corners (0,0,0), (0,0,1), (1,0,0); the vertex moves from (-0.8, 0.5, 0.2) to
+  // (1.2, -0.5, 0.2): at t = 0.5 it is at (0.2, 0, 0.2), inside, and it ends outside the triangle's prism.
+  const Vec3 x0[4] = {Vec3(-0.8, 0.5, 0.2), Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 0)};
+  const Vec3 x1[4] = {Vec3(1.2, -0.5, 0.2), Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 0)};
+  Real t = -1;
+  TriangleProximity hit;
+  REQUIRE(vertex_triangle_ccd(x0, x1, 0.01, t, hit));
+  CHECK(t == doctest::Approx(0.5));
+  TriangleProximity p;
+  CHECK_FALSE(vertex_triangle_proximity(x1[0], x1[1], x1[2], x1[3], 0.01, p));  // ends outside the prism
+  // The same path shifted past the triangle's edge never hits it.
+  Vec3 y0[4] = {x0[0] + Vec3(0, 0, 1), x0[1], x0[2], x0[3]}, y1[4] = {x1[0] + Vec3(0, 0, 1), x1[1], x1[2], x1[3]};
+  CHECK_FALSE(vertex_triangle_ccd(y0, y1, 0.01, t, hit));
+}
+
+TEST_CASE("vertex-triangle CCD with a moving triangle: a rising triangle meets a resting vertex") {
+  // The vertex rests at y = 0.5; the triangle rises from y = 0 to y = 1: coplanar at t = 0.5.
+  const Vec3 x0[4] = {Vec3(0.2, 0.5, 0.2), Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 0)};
+  const Vec3 x1[4] = {Vec3(0.2, 0.5, 0.2), Vec3(0, 1, 0), Vec3(0, 1, 1), Vec3(1, 1, 0)};
+  Real t = -1;
+  TriangleProximity hit;
+  REQUIRE(vertex_triangle_ccd(x0, x1, 0.01, t, hit));
+  CHECK(t == doctest::Approx(0.5));
+}

@@ -1,0 +1,91 @@
+// Collider input: sequences, frame names, and the exit code 2 errors that name the file.
+#include <doctest/doctest.h>
+
+#include "cli_harness.h"
+#include "collision_scene.h"
+#include "io/collider_reader.h"
+#include "systems/collide.h"
+
+using namespace clothsim;
+using namespace clothsim::test;
+
+TEST_CASE("sequence frame names: the run of '#' is the zero-padded frame number") {
+  CHECK(io::sequence_frame_path("dir/body.####.obj", 7) == "dir/body.0007.obj");
+  CHECK(io::sequence_frame_path("b#.obj", 12) == "b12.obj");
+  CHECK(io::sequence_frame_path("a#b/x.##.obj", 3) == "a#b/x.03.obj");
+}
+
+namespace {
+const char* tri_obj = "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 3 2\n";
+const char* quad_obj = "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 1 0 1\nf 1 3 2\nf 2 3 4\n";
+std::string scene_with(const std::string& collider) {
+  return "<scene>\n<simulation fps=\"24\" startFrame=\"1\" endFrame=\"3\"/>\n" + collider +
+         "\n<cloth name=\"c\" grid=\"3 3\" translate=\"0 0.5 0\" saveDir=\"out\"/>\n</scene>\n";
+}
+}  // namespace
+
+TEST_CASE("a missing sequence frame stops the run with exit code 2 naming that file") {
+  const auto dir = scratch_dir("collider_missing_frame");
+  write_text(dir / "b.0001.obj", tri_obj);
+  write_text(dir / "b.0002.obj", tri_obj);
+  write_text(dir / "s.xml", scene_with("<static name=\"body\" sequence=\"b.####.obj\"/>"));
+  const CliResult r = run_cli("run " + (dir / "s.xml").string() + " --quiet");
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("b.0003.obj") != std::string::npos);
+  CHECK(r.output.find("missing") != std::string::npos);
+  CHECK(files_in(dir / "out").empty());
+}
+
+TEST_CASE("a sequence frame with another vertex count stops the run with exit code 2 naming that file") {
+  const auto dir = scratch_dir("collider_bad_frame");
+  write_text(dir / "b.0001.obj", tri_obj);
+  write_text(dir / "b.0002.obj", quad_obj);
+  write_text(dir / "b.0003.obj", tri_obj);
+  write_text(dir / "s.xml", scene_with("<static name=\"body\" sequence=\"b.####.obj\"/>"));
+  const CliResult r = run_cli("run " + (dir / "s.xml").string() + " --quiet");
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("b.0002.obj") != std::string::npos);
+  CHECK(r.output.find("4 vertices") != std::string::npos);
+}
+
+TEST_CASE("collider elements: bad attributes are reported with the line and what was expected") {
+  const auto dir = scratch_dir("collider_bad_attr");
+  write_text(dir / "s.xml", scene_with("<sphere center=\"0 0 0\" radius=\"-1\"/>"));
+  CliResult r = run_cli("validate " + (dir / "s.xml").string());
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("s.xml:3") != std::string::npos);
+  CHECK(r.output.find("radius") != std::string::npos);
+  write_text(dir / "s.xml", scene_with("<plane point=\"0 0 0\" normal=\"0 0 0\"/>"));
+  r = run_cli("validate " + (dir / "s.xml").string());
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("normal") != std::string::npos);
+  write_text(dir / "s.xml", scene_with("<static name=\"x\" obj=\"a.obj\" sequence=\"b.#.obj\"/>"));
+  r = run_cli("validate " + (dir / "s.xml").string());
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("exactly one of") != std::string::npos);
+  write_text(dir / "s.xml", scene_with("<sphere radius=\"1\" normal=\"0 1 0\"/>"));
+  r = run_cli("validate " + (dir / "s.xml").string());
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("unknown attribute 'normal'") != std::string::npos);
+}
+
+TEST_CASE("animated collider: frames are interpolated linearly per step, velocities from the interpolation") {
+  const auto dir = scratch_dir("collider_motion");
+  // A triangle rising 0.24 m per frame at 24 fps: 5.76 m/s.
+  for (int f = 1; f <= 3; ++f) {
+    char name[32];
+    std::snprintf(name, sizeof name, "b.%04d.obj", f);
+    const std::string y = std::to_string(0.24 * (f - 1));
+    write_text(dir / name, "v 0 " + y + " 0\nv 1 " + y + " 0\nv 0 " + y + " 1\nf 1 3 2\n");
+  }
+  write_text(dir / "s.xml", scene_with("<static name=\"body\" sequence=\"b.####.obj\"/>"));
+  auto sc = load_collision_scene(dir / "s.xml");
+  const Model& m = sc.built.model;
+  Workspace ws = make_workspace(m);
+  // Step 5 of a frame of steps_per_frame steps starts at 5/steps_per_frame of the way to frame 2.
+  place_colliders(m, 5, m.dt, ws.collision);
+  const Real expected0 = 0.24 * 5 / m.steps_per_frame, expected1 = 0.24 * 6 / m.steps_per_frame;
+  CHECK(ws.collision.collider_x0[0].y() == doctest::Approx(expected0));
+  CHECK((ws.collision.collider_x1[2].y() - ws.collision.collider_x0[2].y()) / m.dt == doctest::Approx(5.76));
+  CHECK(ws.collision.collider_x1[1].y() == doctest::Approx(expected1));
+}

@@ -1,0 +1,65 @@
+#pragma once
+// Builds a scene written into a scratch folder the way `clothsim run` does (scene, cloth and collider meshes,
+// Model, collision tables), for the collision tests.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli_harness.h"
+#include "core/build_collision.h"
+#include "core/build_model.h"
+#include "io/collider_reader.h"
+#include "io/obj_reader.h"
+#include "io/scene_xml.h"
+#include "systems/step.h"
+
+namespace clothsim::test {
+
+struct LoadedCollisionScene {
+  SceneDesc desc;
+  BuiltScene built;
+};
+
+inline LoadedCollisionScene load_collision_scene(const std::filesystem::path& xml) {
+  LoadedCollisionScene s;
+  s.desc = io::read_scene(xml.string());
+  std::vector<MeshData> meshes;
+  for (const ClothDesc& c : s.desc.cloths) meshes.push_back(c.obj.empty() ? make_cloth_grid(c) : io::read_obj(c.obj));
+  s.built = build_model(s.desc, meshes);
+  build_collision(s.desc, io::read_colliders(s.desc), s.built.state.x, s.built.model);
+  return s;
+}
+
+// A UV sphere (closed, outward counter-clockwise normals) as OBJ text, centred at c.
+inline std::string sphere_obj(const Vec3& c, Real r, int rings = 12, int segments = 24) {
+  std::string s;
+  auto vtx = [&](const Vec3& p) {
+    s += "v " + std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + "\n";
+  };
+  vtx(c + Vec3(0, r, 0));
+  for (int i = 1; i < rings; ++i) {
+    const Real th = M_PI * i / rings;
+    for (int j = 0; j < segments; ++j) {
+      const Real ph = 2 * M_PI * j / segments;
+      vtx(c + r * Vec3(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)));
+    }
+  }
+  vtx(c - Vec3(0, r, 0));
+  auto ring = [&](int i, int j) { return 2 + (i - 1) * segments + (j % segments); };  // 1-based OBJ index
+  const int bottom = 2 + (rings - 1) * segments;
+  for (int j = 0; j < segments; ++j) {
+    s += "f 1 " + std::to_string(ring(1, j + 1)) + " " + std::to_string(ring(1, j)) + "\n";
+    for (int i = 1; i < rings - 1; ++i) {
+      s += "f " + std::to_string(ring(i, j)) + " " + std::to_string(ring(i, j + 1)) + " " +
+           std::to_string(ring(i + 1, j + 1)) + "\n";
+      s += "f " + std::to_string(ring(i, j)) + " " + std::to_string(ring(i + 1, j + 1)) + " " +
+           std::to_string(ring(i + 1, j)) + "\n";
+    }
+    s += "f " + std::to_string(bottom) + " " + std::to_string(ring(rings - 1, j)) + " " +
+         std::to_string(ring(rings - 1, j + 1)) + "\n";
+  }
+  return s;
+}
+
+}  // namespace clothsim::test

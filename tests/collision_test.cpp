@@ -1,0 +1,281 @@
+// Scenario tests of the collide stage, each against a figure: a closed form (Coulomb incline, restitution), an
+// independent check (vertices inside, crossing triangles), or another broad phase.
+#include <doctest/doctest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "collision_scene.h"
+#include "systems/collide.h"
+#include "systems/collision_check.h"
+#include "systems/proximity.h"
+
+using namespace clothsim;
+using clothsim::test::load_collision_scene;
+using clothsim::test::scratch_dir;
+using clothsim::test::write_text;
+
+namespace {
+
+Vec3 centroid(const State& s) {
+  Vec3 c = Vec3::Zero();
+  for (const Vec3& p : s.x) c += p;
+  return c / Real(s.x.size());
+}
+
+Real centroid_v(const State& s) {
+  Real v = 0;
+  for (const Vec3& p : s.v) v += p.y();
+  return v / Real(s.v.size());
+}
+
+// Runs every frame of a scene, calling check(frame, model, state, workspace) after each.
+template <class Check>
+void run_frames(test::LoadedCollisionScene& sc, Check&& check) {
+  const Model& m = sc.built.model;
+  State state = sc.built.state, scratch = state;
+  Workspace ws = make_workspace(m);
+  for (int f = m.start_frame; f <= m.end_frame; ++f) {
+    if (f > m.start_frame) step_frame(m, state, scratch, ws);
+    check(f, m, state, ws);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("vertex-triangle proximity: Cramer barycentrics, tolerance delta = h / longest edge") {
+  TriangleProximity p;
+  // Unit right triangle in z = 0; a point above (0.25, 0.25) at height 0.01.
+  REQUIRE(vertex_triangle_proximity(Vec3(0.25, 0.25, 0.01), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 0.02, p));
+  CHECK(p.d == doctest::Approx(0.01));
+  CHECK(p.w[0] == doctest::Approx(0.5));
+  CHECK(p.w[1] == doctest::Approx(0.25));
+  CHECK(p.w[2] == doctest::Approx(0.25));
+  // Just past the hypotenuse: w0 = -0.01 is within delta = 0.02 / sqrt(2) = 0.0141, -0.02 is not.
+  CHECK(vertex_triangle_proximity(Vec3(0.505, 0.505, 0), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 0.02, p));
+  CHECK_FALSE(vertex_triangle_proximity(Vec3(0.51, 0.51, 0), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 0.02, p));
+}
+
+TEST_CASE("edge-edge proximity: closest points of crossing and skew segments") {
+  EdgeProximity e;
+  REQUIRE(edge_edge_proximity(Vec3(-1, 0, 0.1), Vec3(1, 0, 0.1), Vec3(0, -1, 0), Vec3(0, 1, 0), e));
+  CHECK(e.d == doctest::Approx(0.1));
+  CHECK(e.s == doctest::Approx(0.5));
+  CHECK(e.t == doctest::Approx(0.5));
+  CHECK(e.n.z() == doctest::Approx(1));
+  // End points closest: segments along x, the second shifted past the first's end.
+  REQUIRE(edge_edge_proximity(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 1, 0), Vec3(3, 1, 0), e));
+  CHECK(e.d == doctest::Approx(std::sqrt(2.0)));
+  CHECK(e.s == doctest::Approx(1));
+  CHECK(e.t == doctest::Approx(0));
+}
+
+TEST_CASE("drape over a sphere: no cloth vertex inside the sphere at any frame") {
+  const auto dir = scratch_dir("collision_drape");
+  write_text(dir / "s.xml", R"(<scene>
+  <simulation timestep="0.0005" fps="24" startFrame="1" endFrame="30"/>
+  <sphere name="ball" center="0 0 0" radius="0.3" friction="0.4"/>
+  <cloth name="c" grid="16 16" size="1 1" translate="0 0.35 0" friction="0.4">
+    <density value="0.5"/><stiffness value="100" bend="0.1"/><thickness value="0.01"/>
+  </cloth></scene>)");
+  auto sc = load_collision_scene(dir / "s.xml");
+  Real worst = 1e9;
+  Index inside = 0;
+  run_frames(sc, [&](int, const Model& m, const State& s, const Workspace& ws) {
+    worst = std::min(worst, min_collider_distance(m, s.x, ws.collision, 0));
+    inside += count_inside(m, s.x, ws.collision, 0);
+  });
+  CHECK(inside == 0);
+  CHECK(worst > 0.009);  // the response keeps the thickness, 0.01 m
+  // The sheet did drape: its corners fell well below the top of the sphere.
+}
+
+// A 4x4 cloth resting on a plane tilted by theta about z; mu = 0.5 for cloth and plane (mean 0.5).
+Real incline_travel(Real tan_theta) {
+  const Real theta = std::atan(tan_theta), deg = theta * 180 / M_PI;
+  const Vec3 n(-std::sin(theta), std::cos(theta), 0);
+  const Real h = 0.005;
+  const auto dir = scratch_dir("collision_incline");
+  char xml[1024];
+  std::snprintf(xml, sizeof xml, R"(<scene>
+  <simulation timestep="0.001" fps="24" startFrame="1" endFrame="49"/>
+  <plane name="slope" point="0 0 0" normal="%.17g %.17g 0" friction="0.5"/>
+  <cloth name="c" grid="4 4" size="0.1 0.1" rotate="0 0 %.17g" translate="%.17g %.17g 0" friction="0.5">
+    <density value="2"/><stiffness value="50"/><damping value="0.01"/><thickness value="%g"/>
+  </cloth></scene>)", n.x(), n.y(), deg, h * n.x(), h * n.y(), h);
+  write_text(dir / "s.xml", xml);
+  auto sc = load_collision_scene(dir / "s.xml");
+  const Vec3 start = centroid(sc.built.state);
+  Vec3 end = start;
+  run_frames(sc, [&](int, const Model&, const State& s, const Workspace&) { end = centroid(s); });
+  return (end - start).norm();
+}
+
+TEST_CASE("incline: sticks below tan theta = mu, slides by the Coulomb closed form above it") {
+  // 48 frames at 24 fps = 2 s.
+  CHECK(incline_travel(0.45) < 1e-3);
+  const Real tan_theta = 0.55, theta = std::atan(tan_theta), t = 2.0;
+  const Real expected = 0.5 * 9.81 * (std::sin(theta) - 0.5 * std::cos(theta)) * t * t;  // 0.86 m
+  CHECK(incline_travel(tan_theta) == doctest::Approx(expected).epsilon(0.05));
+}
+
+TEST_CASE("restitution: a flat cloth leaves the ground with the set ratio of normal speeds") {
+  const auto dir = scratch_dir("collision_restitution");
+  write_text(dir / "s.xml", R"(<scene>
+  <simulation timestep="0.0001" fps="100" startFrame="1" endFrame="40"/>
+  <plane name="ground" point="0 0 0" normal="0 1 0" friction="0"/>
+  <cloth name="c" grid="4 4" size="0.1 0.1" translate="0 0.2 0" friction="0" restitution="0.5">
+    <density value="2"/><stiffness value="50"/><damping value="0.01"/><thickness value="0.005"/>
+  </cloth></scene>)");
+  auto sc = load_collision_scene(dir / "s.xml");
+  const Model& m = sc.built.model;
+  State s = sc.built.state, next = s;
+  Workspace ws = make_workspace(m);
+  Real impact = 0, rebound = 0;
+  for (int k = 0; k < 3000 && rebound == 0; ++k) {
+    const Real before = centroid_v(s);
+    step(m, s, next, ws, m.dt);
+    std::swap(s, next);
+    const Real after = centroid_v(s);
+    if (before < 0 && after > 0) { impact = -before; rebound = after; }
+  }
+  REQUIRE(impact > 1.5);  // fell ~0.2 m: sqrt(2 g 0.195) = 1.96 m/s
+  CHECK(rebound / impact == doctest::Approx(0.5).epsilon(0.1));
+}
+
+TEST_CASE("tunnelling: a sphere crossing a pinned sheet at 20 m/s pushes it; no vertex ends on the wrong side") {
+  // The sphere (r = 0.15 m) moves down at 20 m/s (0.2 m per frame at 100 fps, 2 cm per step: four times the
+  // thickness) from 0.4 m above the sheet until its centre is 0.1 m below it, then stops.
+  const auto dir = scratch_dir("collision_tunnel");
+  const Real r = 0.15, stop = -0.1;
+  for (int f = 1; f <= 12; ++f) {
+    char name[64];
+    std::snprintf(name, sizeof name, "ball.%04d.obj", f);
+    write_text(dir / name, test::sphere_obj(Vec3(0, std::max(0.4 - 0.2 * (f - 1), stop), 0), r, 16, 32));
+  }
+  const int n = 24;
+  std::string pins;
+  for (int i = 0; i < n; ++i)
+    pins += std::to_string(i) + " " + std::to_string((n - 1) * n + i) + " " + std::to_string(n * i) + " " +
+            std::to_string(n * i + n - 1) + " ";
+  write_text(dir / "s.xml", R"(<scene>
+  <simulation timestep="0.001" fps="100" startFrame="1" endFrame="12"/>
+  <static name="ball" sequence="ball.####.obj" friction="0.8"/>
+  <cloth name="c" grid="24 24" size="0.8 0.8" friction="0.8">
+    <density value="0.5"/><stiffness value="100"/><damping value="0.01"/><thickness value="0.005"/>
+    <pins vertices=")" + pins + R"("/>
+  </cloth></scene>)");
+  auto sc = load_collision_scene(dir / "s.xml");
+  REQUIRE(sc.built.model.collision.colliders[0].closed);
+  Index inside = 0, above = 0;
+  Real lowest = 0;
+  run_frames(sc, [&](int f, const Model& m, const State& s, const Workspace& ws) {
+    inside += count_inside(m, s.x, ws.collision, 0);
+    // Once the sphere has passed the sheet's plane, the cloth under it must be below its centre.
+    const Real centre = std::max(0.4 - 0.2 * (f - 1), stop);
+    for (const Vec3& p : s.x) {
+      lowest = std::min(lowest, p.y());
+      if (centre < -r / 2 && p.x() * p.x() + p.z() * p.z() < r * r / 4 && p.y() > centre) ++above;
+    }
+  });
+  CHECK(inside == 0);
+  CHECK(above == 0);
+  CHECK(lowest < stop - r);  // pushed down with the sphere, whose bottom ends at -0.25 m
+}
+
+namespace {
+const char* fold_scene = R"(<scene>
+  <simulation timestep="0.0005" fps="24" startFrame="1" endFrame="20" collisionIterations="3" broadPhase="%s"/>
+  <forces><airDamping value="0.2"/></forces>
+  <plane name="ground" point="0 0 0" normal="0 1 0" friction="0.6"/>
+  <cloth name="c" grid="12 12" size="0.4 0.4" rotate="75 0 0" translate="0 0.21 0" friction="0.3"
+         selfCollision="true">
+    <density value="0.5"/><stiffness value="100" bend="0.05"/><thickness value="0.01"/>
+  </cloth></scene>)";
+
+test::LoadedCollisionScene load_fold(const char* broad) {
+  const auto dir = scratch_dir(std::string("collision_fold_") + broad);
+  char xml[2048];
+  std::snprintf(xml, sizeof xml, fold_scene, broad);
+  write_text(dir / "s.xml", xml);
+  return load_collision_scene(dir / "s.xml");
+}
+}  // namespace
+
+TEST_CASE("self-collision: in the fold scene no two non-adjacent triangles intersect at any frame") {
+  auto sc = load_fold("hash");
+  Index crossings = 0;
+  Real lowest_top = 1;
+  run_frames(sc, [&](int, const Model& m, const State& s, const Workspace&) {
+    crossings += count_intersecting_triangles(m, s.x);
+    Real top = -1;
+    for (const Vec3& p : s.x) top = std::max(top, p.y());
+    lowest_top = std::min(lowest_top, top);
+  });
+  CHECK(crossings == 0);
+  CHECK(lowest_top < 0.2);  // it did fall over: the sheet started 0.4 m tall
+}
+
+TEST_CASE("self-collision run gives the same bytes at 1 and 2 threads, with hash and with BVH") {
+  for (const char* broad : {"hash", "bvh"}) {
+    std::vector<Vec3> result[2];
+    for (int t = 1; t <= 2; ++t) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, t);
+      auto sc = load_fold(broad);
+      run_frames(sc, [&](int, const Model&, const State& s, const Workspace&) { result[t - 1] = s.x; });
+    }
+    REQUIRE(result[0].size() == result[1].size());
+    CHECK(std::memcmp(result[0].data(), result[1].data(), result[0].size() * sizeof(Vec3)) == 0);
+  }
+}
+
+TEST_CASE("hash, BVH and brute force find the same proximities on random configurations") {
+  const auto dir = scratch_dir("collision_broad");
+  write_text(dir / "ball.obj", test::sphere_obj(Vec3(0, 0, 0), 0.2, 8, 16));
+  for (const char* broad : {"hash", "bvh"}) {
+    char xml[1024];
+    std::snprintf(xml, sizeof xml, R"(<scene>
+  <simulation broadPhase="%s"/>
+  <static name="ball" obj="ball.obj"/>
+  <cloth name="c" grid="20 20" size="0.6 0.6" selfCollision="true"><thickness value="0.02"/></cloth>
+</scene>)", broad);
+    write_text(dir / (std::string(broad) + ".xml"), xml);
+  }
+  auto hash = load_collision_scene(dir / "hash.xml");
+  auto bvh = load_collision_scene(dir / "bvh.xml");
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<Real> u(-0.25, 0.25), small(-0.01, 0.01);
+  std::size_t total = 0;
+  for (int trial = 0; trial < 4; ++trial) {
+    // A crumpled sheet (heights scattered over 8 cm) draped near a sphere: many vertex-triangle and edge-edge
+    // pairs within the thickness, against both the cloth and the collider.
+    State in = hash.built.state, out = in;
+    for (std::size_t i = 0; i < in.x.size(); ++i) {
+      in.x[i] += Vec3(0.2 * small(rng), 0.18 + 0.04 * trial + u(rng) * 0.16, 0.2 * small(rng));
+      out.x[i] = in.x[i] + Vec3(small(rng), small(rng), small(rng));
+    }
+    Workspace wh = make_workspace(hash.built.model), wb = make_workspace(bvh.built.model);
+    build_broad_phase(hash.built.model, in, out, wh.collision);
+    build_broad_phase(bvh.built.model, in, out, wb.collision);
+    const auto by_hash = list_proximities(hash.built.model, in, out, wh.collision, BroadMode::hash);
+    const auto by_bvh = list_proximities(bvh.built.model, in, out, wb.collision, BroadMode::bvh);
+    const auto by_brute = list_proximities(hash.built.model, in, out, wh.collision, BroadMode::brute);
+    CHECK(by_hash == by_brute);
+    CHECK(by_bvh == by_brute);
+    total += by_brute.size();
+  }
+  CHECK(total > 100);
+}
+
+TEST_CASE("a scene without colliders and self-collision builds nothing for collisions") {
+  const auto dir = scratch_dir("collision_none");
+  write_text(dir / "s.xml", R"(<scene><cloth name="c" grid="4 4"/></scene>)");
+  auto sc = load_collision_scene(dir / "s.xml");
+  const Model& m = sc.built.model;
+  CHECK_FALSE(m.collision.enabled);
+  CHECK(m.collision.prim.empty());
+  CHECK(m.collision.particle_cloth.empty());
+  CHECK(make_workspace(m).collision.acc_count.empty());
+}

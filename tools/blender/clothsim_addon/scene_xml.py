@@ -1,0 +1,90 @@
+"""The scene file clothsim reads (io/scene_xml.cpp), written from plain Python values.
+
+No bpy here: the panel's settings are gathered into the dataclasses below by export.py, so this part can be
+checked with plain Python against `clothsim validate`. Attribute names and units follow docs/scene-format.md.
+"""
+from dataclasses import dataclass, field
+from typing import List, Sequence, Tuple
+from xml.sax.saxutils import quoteattr
+
+Vec3 = Tuple[float, float, float]
+
+
+@dataclass
+class ClothSpec:
+    name: str
+    obj: str                      # mesh path, absolute or relative to the scene file
+    save_dir: str
+    save_name: str
+    density: float = 0.2          # kg/m^2
+    stiffness: float = 1000.0     # N/m per spring
+    bend: float = 1.0             # bend springs: stiffness * bend
+    damping: float = 0.1          # N s/m per spring
+    thickness: float = 0.005      # m
+    friction: float = 0.3
+    restitution: float = 0.0
+    self_collision: bool = False
+    pins: List[int] = field(default_factory=list)  # vertex indices, from 0
+
+
+@dataclass
+class SceneSpec:
+    timestep: float = 0.001       # s
+    fps: float = 24.0
+    start_frame: int = 1
+    end_frame: int = 48
+    integrator: str = "symplectic"
+    gravity: Vec3 = (0.0, 0.0, -9.81)   # Blender is Z-up; the add-on writes world space unchanged
+    wind_velocity: Vec3 = (0.0, 0.0, 0.0)
+    wind_strength: float = 0.0    # kg/(m^2 s)
+    air_damping: float = 0.0      # 1/s
+    cloths: List[ClothSpec] = field(default_factory=list)
+
+
+def _num(x: float) -> str:
+    # Blender keeps its properties in float32: 7 significant digits give back what was typed (0.15, not
+    # 0.150000006), and float32 holds no more than that anyway.
+    return f"{float(x):.7g}"
+
+
+def _vec(v: Sequence[float]) -> str:
+    return " ".join(_num(c) for c in v)
+
+
+def _attrs(pairs) -> str:
+    return " ".join(f"{k}={quoteattr(str(v))}" for k, v in pairs)
+
+
+def format_scene(scene: SceneSpec) -> str:
+    out = ['<?xml version="1.0"?>', "<!-- Written by the clothsim Blender add-on. -->", "<scene>"]
+    out.append("  <simulation " + _attrs([
+        ("timestep", _num(scene.timestep)), ("fps", _num(scene.fps)),
+        ("startFrame", int(scene.start_frame)), ("endFrame", int(scene.end_frame)),
+        ("integrator", scene.integrator), ("gravity", _vec(scene.gravity))]) + "/>")
+    forces = []
+    if scene.wind_strength > 0:
+        forces.append("    <wind " + _attrs([("velocity", _vec(scene.wind_velocity)),
+                                            ("strength", _num(scene.wind_strength))]) + "/>")
+    if scene.air_damping > 0:
+        forces.append("    <airDamping " + _attrs([("value", _num(scene.air_damping))]) + "/>")
+    if forces:
+        out += ["  <forces>"] + forces + ["  </forces>"]
+    for c in scene.cloths:
+        out.append("  <cloth " + _attrs([
+            ("name", c.name), ("obj", c.obj), ("saveDir", c.save_dir), ("saveName", c.save_name),
+            ("friction", _num(c.friction)), ("restitution", _num(c.restitution)),
+            ("selfCollision", "true" if c.self_collision else "false")]) + ">")
+        out.append("    <density " + _attrs([("value", _num(c.density))]) + "/>")
+        out.append("    <stiffness " + _attrs([("value", _num(c.stiffness)), ("bend", _num(c.bend))]) + "/>")
+        out.append("    <damping " + _attrs([("value", _num(c.damping))]) + "/>")
+        out.append("    <thickness " + _attrs([("value", _num(c.thickness))]) + "/>")
+        if c.pins:
+            out.append("    <pins " + _attrs([("vertices", " ".join(str(int(i)) for i in c.pins))]) + "/>")
+        out.append("  </cloth>")
+    out.append("</scene>")
+    return "\n".join(out) + "\n"
+
+
+def write_scene(path: str, scene: SceneSpec) -> None:
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(format_scene(scene))

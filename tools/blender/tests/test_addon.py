@@ -1,0 +1,195 @@
+"""Headless test of the clothsim add-on against the real clothsim binary.
+
+  blender -b --factory-startup --python-exit-code 1 --python test_addon.py -- CLOTHSIM_BIN SCRATCH_DIR
+
+Builds a pinned plane and a sphere, marks them, runs Simulate, and checks that the cloth's evaluated vertex
+positions at several frames equal clothsim's OBJ frames to float32 precision (what Blender stores), that the
+pinned vertices did not move, that UVs and material survive, and that clothsim's own error messages (exit 2 and
+exit 3) come back as operator reports."""
+import math
+import os
+import shutil
+import sys
+import time
+
+import bpy
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))  # tools/blender, which holds the clothsim_addon package
+
+import addon_utils  # noqa: E402
+
+argv = sys.argv[sys.argv.index("--") + 1:]
+BINARY, SCRATCH = os.path.abspath(argv[0]), os.path.abspath(argv[1])
+addon_utils.enable("clothsim_addon", default_set=True, handle_error=None)
+bpy.context.preferences.addons["clothsim_addon"].preferences.binary = BINARY
+
+from clothsim_addon import mesh_files, runner  # noqa: E402
+FAILURES = []
+
+
+def check(cond, what):
+    print(("ok   " if cond else "FAIL ") + what)
+    if not cond:
+        FAILURES.append(what)
+
+
+def evaluated_world_positions(obj):
+    """Vertex positions after the modifier stack (the Mesh Cache modifier), in world space, float64."""
+    dg = bpy.context.evaluated_depsgraph_get()
+    mesh = obj.evaluated_get(dg).data
+    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    m = np.array(obj.matrix_world, dtype=np.float64)
+    return co.reshape(-1, 3).astype(np.float64) @ m[:3, :3].T + m[:3, 3]
+
+
+def build_scene():
+    scene = bpy.context.scene
+    for obj in list(scene.objects):
+        bpy.data.objects.remove(obj)
+    # A 1 m grid of 12 x 12 vertices, tilted and scaled so that world space differs from object space.
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=11, y_subdivisions=11, size=1.0, location=(0.1, -0.2, 1.2),
+                                    rotation=(math.radians(20), 0, math.radians(10)))
+    cloth = bpy.context.object
+    cloth.name = "Sheet"
+    cloth.scale = (1.5, 1.0, 1.0)
+    # Pins: the two corners of one edge, found by position so the test does not depend on Blender's numbering.
+    co = np.array([v.co[:] for v in cloth.data.vertices])
+    corners = [int(np.argmin(np.abs(co[:, 0] - co[:, 0].min()) + np.abs(co[:, 1] - y))) for y in
+               (co[:, 1].min(), co[:, 1].max())]
+    group = cloth.vertex_groups.new(name="pins")
+    group.add(corners, 1.0, "REPLACE")
+    group.add([int(np.argmin(np.abs(co[:, 0]) + np.abs(co[:, 1])))], 0.2, "REPLACE")  # under the pin weight
+    # A modifier already on the object: the simulation must go under it, first in the stack.
+    subsurf = cloth.modifiers.new("Subdivision", "SUBSURF")
+    subsurf.levels = subsurf.render_levels = 0
+    material = bpy.data.materials.new("Checker")
+    cloth.data.materials.append(material)
+    s = cloth.clothsim
+    s.role = "CLOTH"
+    s.density, s.stiffness, s.bend, s.damping, s.thickness = 0.2, 400.0, 0.2, 0.05, 0.004
+    s.pin_group = "pins"
+
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.3, location=(0, 0, 0.4))
+    sphere = bpy.context.object
+    sphere.name = "Ball"
+    sphere.clothsim.role = "COLLIDER"
+
+    scene.frame_start, scene.frame_end = 1, 12
+    scene.render.fps, scene.render.fps_base = 24, 1.0
+    run = scene.clothsim
+    run.integrator = "symplectic"
+    run.timestep = 0.001
+    run.threads = 2
+    run.wind_velocity, run.wind_strength, run.air_damping = (0.5, 0.0, 0.0), 0.1, 0.05
+    run.cache_dir = os.path.join(SCRATCH, "cache")
+    return cloth, sphere, corners
+
+
+def test_simulate(cloth, corners):
+    world0 = evaluated_world_positions(cloth)
+    uv0 = np.array([d.uv[:] for d in cloth.data.uv_layers.active.data])
+    result = bpy.ops.clothsim.simulate()
+    check(result == {"FINISHED"}, f"Simulate finished ({result})")
+    frames_dir = os.path.join(SCRATCH, "cache", "frames")
+    files = sorted(f for f in os.listdir(frames_dir) if f.startswith("Sheet."))
+    check(len(files) == 12, f"clothsim wrote 12 frames of the sheet ({len(files)})")
+    check(cloth.modifiers[0].type == "MESH_CACHE", "the result plays through a Mesh Cache modifier, first in the stack")
+
+    # Frame 1 is the exported mesh itself: the OBJ export kept vertex order and world positions.
+    first = mesh_files.read_obj_positions(mesh_files.frame_path(frames_dir, "Sheet", 1))
+    err0 = np.abs(first - world0).max()
+    check(err0 < 1e-6, f"frame 1 equals the Blender mesh in world space (max error {err0:.2e} m)")
+
+    moved = 0.0
+    for f in (1, 4, 8, 12):
+        bpy.context.scene.frame_set(f)
+        got = evaluated_world_positions(cloth)
+        want = mesh_files.read_obj_positions(mesh_files.frame_path(frames_dir, "Sheet", f))
+        # Blender keeps float32 object-space coordinates: a few ulps of ~2 m after the transform.
+        err = np.abs(got - want).max()
+        check(err < 1e-6, f"frame {f}: Blender vertices equal clothsim's OBJ (max error {err:.2e} m)")
+        pin_err = np.abs(got[corners] - world0[corners]).max()
+        check(pin_err < 1e-6, f"frame {f}: pinned vertices {corners} did not move ({pin_err:.2e} m)")
+        moved = max(moved, np.linalg.norm(got - world0, axis=1).max())
+    # Free fall over 11/24 s alone would be g t^2 / 2 = 1.03 m; the pins hold the sheet, so well over 5 cm.
+    check(moved > 0.05, f"the unpinned vertices moved ({moved:.3f} m), so the comparisons above are not vacuous")
+
+    dg = bpy.context.evaluated_depsgraph_get()
+    mesh = cloth.evaluated_get(dg).data
+    uv = np.array([d.uv[:] for d in mesh.uv_layers.active.data])
+    check(uv.shape == uv0.shape and np.array_equal(uv, uv0), "UVs kept")
+    check(mesh.materials[0] is not None and mesh.materials[0].name == "Checker", "material kept")
+
+    # Load Result brings the same frames back from the cache folder, without simulating.
+    cloth.modifiers.remove(cloth.modifiers["clothsim"])
+    check(bpy.ops.clothsim.load() == {"FINISHED"}, "Load Result")
+    bpy.context.scene.frame_set(8)
+    want = mesh_files.read_obj_positions(mesh_files.frame_path(frames_dir, "Sheet", 8))
+    err = np.abs(evaluated_world_positions(cloth) - want).max()
+    check(cloth.modifiers[0].name == "clothsim" and err < 1e-6, f"Load Result: frame 8 again ({err:.2e} m)")
+
+    # The scene has the pins of weight >= 0.5 only.
+    text = open(os.path.join(SCRATCH, "cache", "scene.xml")).read()
+    check(f'<pins vertices="{corners[0]} {corners[1]}"/>' in text, "pins exported from the vertex group")
+    for element in ('<density value="0.2"/>', '<stiffness value="400" bend="0.2"/>', '<thickness value="0.004"/>',
+                    'gravity="0 0 -9.81"', '<wind velocity="0.5 0 0" strength="0.1"/>', '<airDamping value="0.05"/>'):
+        check(element in text, f"scene has {element}")
+
+
+def expect_error(what, needle):
+    try:
+        bpy.ops.clothsim.simulate()
+    except RuntimeError as e:
+        msg = str(e)
+        check(needle in msg, f"{what}: report carries clothsim's message ({msg.strip()!r})")
+        return
+    check(False, f"{what}: Simulate reported no error")
+
+
+def test_errors(cloth):
+    scene = bpy.context.scene
+    scene.clothsim.use_scene_range = False
+    scene.clothsim.frame_start, scene.clothsim.frame_end = 10, 5
+    expect_error("bad frame range (exit 2)", "startFrame 10 is after endFrame 5")
+    scene.clothsim.use_scene_range = True
+    stiffness, timestep = cloth.clothsim.stiffness, scene.clothsim.timestep
+    cloth.clothsim.stiffness, scene.clothsim.timestep = 1e9, 0.01
+    expect_error("divergence (exit 3)", "diverged")
+    cloth.clothsim.stiffness, scene.clothsim.timestep = stiffness, timestep
+
+
+def test_cancel(cloth):
+    """The background job reports progress from clothsim's stderr and stops on cancel, leaving whole frames."""
+    scene = bpy.context.scene
+    scene.frame_end, scene.clothsim.timestep = 2000, 0.0001  # some 10 s of work: cancelled long before
+    check(bpy.ops.clothsim.write_scene() == {"FINISHED"}, "Write Scene")
+    job = runner.ClothsimJob(BINARY, os.path.join(SCRATCH, "cache", "scene.xml"), threads=1)
+    while job.poll() is None and job.progress()[0] < 2:
+        time.sleep(0.01)
+    done, total = job.progress()
+    check(total == 2000 and done >= 2, f"progress read from clothsim's stderr ({done}/{total})")
+    job.cancel()
+    check(job.poll() not in (None, 0), f"cancel stopped clothsim (exit {job.poll()})")
+    frames_dir = os.path.join(SCRATCH, "cache", "frames")
+    written = sorted(f for f in os.listdir(frames_dir) if f.startswith("Sheet.") and f.endswith(".obj"))
+    check(2 <= len(written) < 2000, f"cancelled early ({len(written)} frames written)")
+    sizes = {len(mesh_files.read_obj_positions(os.path.join(frames_dir, f))) for f in written}
+    check(sizes == {len(cloth.data.vertices)}, f"every frame left is whole ({sizes} vertices)")
+    scene.frame_end, scene.clothsim.timestep = 12, 0.001
+
+
+def main():
+    shutil.rmtree(SCRATCH, ignore_errors=True)
+    os.makedirs(SCRATCH)
+    cloth, _sphere, corners = build_scene()
+    test_simulate(cloth, corners)
+    test_errors(cloth)
+    test_cancel(cloth)
+    print(f"{len(FAILURES)} failure(s)")
+    sys.exit(1 if FAILURES else 0)
+
+
+main()
