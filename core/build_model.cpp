@@ -1,5 +1,6 @@
 #include "core/build_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
@@ -37,6 +38,17 @@ Real kind_scale(const ClothDesc& cloth, SpringKind k) {
     case SpringKind::flex: return cloth.bend_scale;
     default: return 1;
   }
+}
+
+// A cloth's per-vertex parameter: the sampled array when its map was given, else its one uniform value.
+ParamField vertex_field(const SceneDesc& scene, const ClothDesc& cloth, const MeshData& mesh,
+                        const std::vector<Real>& sampled, Real uniform, const char* what) {
+  if (sampled.empty()) return ParamField(uniform);
+  if (Index(sampled.size()) != mesh.vertex_count())
+    throw Error(scene.path, cloth.line, "cloth '" + cloth.name + "': " + what + " has " +
+                                            std::to_string(sampled.size()) + " values; expected one per vertex (" +
+                                            std::to_string(mesh.vertex_count()) + ")");
+  return ParamField::from_values(sampled);
 }
 
 }  // namespace
@@ -92,6 +104,15 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
     area.resize(positions.size(), 0.0);
     pinned_flag.resize(positions.size(), 0);
     thickness.resize(positions.size(), cd.thickness);
+    const VertexParams& vp = mesh.params;
+    const ParamField density = vertex_field(scene, cd, mesh, vp.density, cd.density, "density map");
+    const ParamField stiffness = vertex_field(scene, cd, mesh, vp.stiffness, cd.stiffness, "stiffness map");
+    const ParamField damping = vertex_field(scene, cd, mesh, vp.damping, cd.damping, "damping map");
+    const ParamField vertex_thickness = vertex_field(scene, cd, mesh, vp.thickness, cd.thickness, "thickness map");
+    for (Index i = 0; i < mesh.vertex_count(); ++i) thickness[base + i] = vertex_thickness[i];
+    // With a thickness map the cloth's one figure is its largest thickness (a safe bound for collision queries).
+    info.thickness = vertex_thickness[0];
+    for (Index i = 0; i < mesh.vertex_count(); ++i) info.thickness = std::max(info.thickness, vertex_thickness[i]);
 
     // Mass from areal density lumped to the corners by area (a third each), so refining keeps the total.
     for (Index t = 0; t < mesh.triangle_count(); ++t) {
@@ -100,11 +121,23 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
       const Real a = 0.5 * (positions[g[1]] - positions[g[0]]).cross(positions[g[2]] - positions[g[0]]).norm();
       for (int k = 0; k < 3; ++k) {
         area[g[k]] += a / 3;
-        mass[g[k]] += cd.density * a / 3;
+        mass[g[k]] += density[mesh.tri_index[3 * t + k]] * a / 3;
         m.tri_index.push_back(g[k]);
       }
     }
     m.tri_count += mesh.triangle_count();
+    // A mass map or <mass> gives kg per vertex as written (the original tool's rule); vertices no triangle
+    // touches keep no mass, as with density.
+    if (cd.mass_per_vertex) {
+      const ParamField vertex_mass = vertex_field(scene, cd, mesh, vp.mass, cd.mass, "mass map");
+      for (Index i = 0; i < mesh.vertex_count(); ++i)
+        mass[base + i] = area[base + i] > 0 ? vertex_mass[i] : 0.0;
+    }
+    if (!vp.pinned.empty()) {
+      if (Index(vp.pinned.size()) != mesh.vertex_count())
+        throw Error(scene.path, cd.line, "cloth '" + cd.name + "': pins map has the wrong size; expected one value per vertex");
+      for (Index i = 0; i < mesh.vertex_count(); ++i) pinned_flag[base + i] |= vp.pinned[i];
+    }
 
     for (Index p : cd.pins) {
       if (p < 0 || p >= mesh.vertex_count())
@@ -126,8 +159,9 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
       m.spring_a.push_back(a);
       m.spring_b.push_back(b);
       m.spring_rest.push_back(rest);
-      ke.push_back(cd.stiffness * kind_scale(cd, springs.kind[s]));
-      kd.push_back(cd.damping);
+      // A spring takes the mean of its ends' values; for a uniform value 0.5 * (k + k) is k exactly.
+      ke.push_back(0.5 * (stiffness[springs.a[s]] + stiffness[springs.b[s]]) * kind_scale(cd, springs.kind[s]));
+      kd.push_back(0.5 * (damping[springs.a[s]] + damping[springs.b[s]]));
       ++m.spring_kind_total[int(springs.kind[s])];
     }
     m.spring_count += springs.size();

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "core/vertex_params.h"
 
 namespace clothsim {
 
@@ -14,6 +15,7 @@ struct MeshData {
   std::vector<Index> tri_index;  // vertex indices, counter-clockwise (3 * triangle_count)
   std::vector<Index> tri_uv;     // uv indices per corner (3 * triangle_count), or empty without UVs
   int polygons_triangulated = 0; // faces with more than 3 corners that were split into a fan
+  VertexParams params;           // sampled from the cloth's maps; empty arrays for uniform values
 
   Index vertex_count() const { return static_cast<Index>(positions.size()); }
   Index triangle_count() const { return static_cast<Index>(tri_index.size() / 3); }

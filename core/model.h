@@ -30,7 +30,7 @@ struct ClothInfo {
   std::string name;
   std::string save_dir;      // absolute or relative to the working directory
   std::string save_name;
-  std::string texture;       // colour texture path as written in the scene ("" for none)
+  std::string texture;       // colour texture, resolved against the scene folder ("" for none)
   Index particle_begin = 0, particle_end = 0;
   Index tri_begin = 0, tri_end = 0;
   Index spring_begin = 0, spring_end = 0;

@@ -22,6 +22,7 @@ struct SimulationDesc {
   Vec3 gravity{0, -9.81, 0};   // m/s^2
   int collision_iterations = 2;
   BroadPhase broad_phase = BroadPhase::hash;
+  int checkpoint_every = 0;    // frames between checkpoints (and one at the end); 0: none (io/checkpoint.h)
 };
 
 struct RandomForceDesc {
@@ -44,6 +45,14 @@ struct TransformDesc {
   Vec3 scale{1, 1, 1};
 };
 
+// A parameter painted as a grey-scale image: value = lerp(min, max, grey at the vertex's UV) (docs/maps.md).
+struct ParamMapDesc {
+  std::string path;           // image, resolved against the scene folder; empty when the value is uniform
+  Real min = 0, max = 0;
+  int line = 0;               // line of the element, for error messages
+  bool mapped() const { return !path.empty(); }
+};
+
 struct ClothDesc {
   std::string name;
   int line = 0;               // line of the <cloth> element, for error messages
@@ -64,6 +73,9 @@ struct ClothDesc {
   Real damping = 0.1;         // N s/m per spring, on the relative speed along it
   Real thickness = 0.005;     // m
   std::vector<Index> pins;    // vertex indices held fixed
+  bool mass_per_vertex = false;  // <mass> given: kg per vertex instead of density lumped by area
+  Real mass = 0;              // kg per vertex, when mass_per_vertex and not mapped
+  ParamMapDesc density_map, mass_map, stiffness_map, damping_map, thickness_map, pins_map;
 };
 
 // A collider: <static obj|sequence>, <sphere> or <plane>. Meshes are one-sided: the outside is where the

@@ -10,6 +10,7 @@
 #include <tiny_obj_loader.h>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "io/text_file.h"
 
 namespace clothsim::io {
@@ -20,11 +21,31 @@ bool starts_with_tag(std::string_view line, std::string_view tag) {
          (line[tag.size()] == ' ' || line[tag.size()] == '\t');
 }
 
+// tinyobjloader stores a face's corner count in an unsigned char: a face of 256 or more corners would be
+// miscounted, so it is refused here, as is a mesh of more triangles than the documented limit.
+void check_face_size(const std::string& path, int line_no, std::string_view line, std::int64_t& triangles) {
+  int corners = 0;
+  bool in_token = false;
+  for (std::size_t i = 1; i < line.size() && line[i] != '#'; ++i) {
+    const bool blank = line[i] == ' ' || line[i] == '\t';
+    corners += !blank && !in_token;
+    in_token = !blank;
+  }
+  if (corners > 255)
+    throw Error(path, line_no, "face with " + std::to_string(corners) + " corners; expected at most 255");
+  triangles += std::max(corners - 2, 1);
+  if (triangles > limits::max_mesh_triangles)
+    throw Error(path, line_no, "more than " + std::to_string(limits::max_mesh_triangles) +
+                                   " triangles; expected at most that many (the limit of one mesh, docs/errors.md)");
+}
+
 // tinyobjloader reads "nan", "inf" and garbage as 0 without a word, so the coordinates of every v and vt line
 // are checked here first (std::from_chars: fast, locale-free), and the line of every face is remembered for
 // the messages that need it.
+// Sizes are checked here too, before tinyobjloader allocates anything for them (core/limits.h).
 void check_numbers(const std::string& path, const std::string& text, std::vector<int>& face_lines) {
   int line_no = 0;
+  std::int64_t vertices = 0, triangles = 0;
   std::size_t pos = 0;
   while (pos < text.size()) {
     std::size_t end = text.find('\n', pos);
@@ -34,7 +55,13 @@ void check_numbers(const std::string& path, const std::string& text, std::vector
     pos = end + 1;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     const bool is_v = starts_with_tag(line, "v"), is_vt = starts_with_tag(line, "vt");
-    if (starts_with_tag(line, "f")) face_lines.push_back(line_no);
+    if (starts_with_tag(line, "f")) {
+      face_lines.push_back(line_no);
+      check_face_size(path, line_no, line, triangles);
+    }
+    if (is_v && ++vertices > limits::max_mesh_vertices)
+      throw Error(path, line_no, "more than " + std::to_string(limits::max_mesh_vertices) +
+                                     " vertices; expected at most that many (the limit of one mesh, docs/errors.md)");
     if (!is_v && !is_vt) continue;
     const std::size_t want = is_v ? 3 : 2;
     std::size_t got = 0;

@@ -50,7 +50,11 @@ std::string format_frame(const Model& model, const ClothInfo& cloth, std::span<c
   ObjText out(std::size_t(nv) * 90 + std::size_t(nt) * 40 + 256);
   out.raw("# clothsim frame ");
   out.integer(frame);
-  out.raw("\no ");
+  out.raw("\n");
+  // A textured cloth references its material (io/mtl_writer), written once beside the frames.
+  const bool textured = !cloth.texture.empty();
+  if (textured) out.raw("mtllib " + cloth.save_name + ".mtl\n");
+  out.raw("o ");
   out.raw(cloth.name.empty() ? std::string_view("cloth") : std::string_view(cloth.name));
   out.raw("\n");
   for (Index i = cloth.particle_begin; i < cloth.particle_end; ++i) {
@@ -70,6 +74,7 @@ std::string format_frame(const Model& model, const ClothInfo& cloth, std::span<c
     out.raw("\n");
   }
   const bool uvs = !cloth.tri_uv.empty();
+  if (textured) out.raw("usemtl " + cloth.save_name + "\n");
   for (Index t = cloth.tri_begin; t < cloth.tri_end; ++t) {
     out.tag("f");
     for (int k = 0; k < 3; ++k) {

@@ -10,7 +10,8 @@ namespace clothsim::io {
 std::string frame_path(const std::string& dir, const std::string& save_name, int frame);
 
 // One cloth's frame as OBJ text: v (9 significant digits), vt (the input UVs), vn (the given unit normals),
-// and f v/vt/vn (or v//vn without UVs), 1-based, local to the cloth.
+// and f v/vt/vn (or v//vn without UVs), 1-based, local to the cloth; with a texture, mtllib <saveName>.mtl
+// and usemtl <saveName> (see io/mtl_writer.h).
 std::string format_frame(const Model& model, const ClothInfo& cloth, std::span<const Vec3> x,
                          std::span<const Vec3> normal, int frame);
 

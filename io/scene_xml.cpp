@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "io/text_file.h"
 
 namespace clothsim::io {
@@ -140,10 +141,33 @@ std::string resolve(const std::string& base, const std::string& p) {
   return path.is_absolute() ? p : (std::filesystem::path(base) / path).lexically_normal().string();
 }
 
+// One per-vertex parameter: value="…" (kept in `value`), or min="…" max="…" map="image" (into `map`).
+// `positive`: the values must be > 0 (density, mass, thickness); otherwise >= 0 (stiffness, damping).
+void read_param(const ElementReader& r, const std::string& base, Real& value, ParamMapDesc& map, bool positive,
+                const char* unit) {
+  const std::string expected = std::string(positive ? "a positive number (" : "a number >= 0 (") + unit + ")";
+  const bool has_map = r.has("map") || r.has("min") || r.has("max");
+  if (!has_map) {
+    value = positive ? r.positive("value", value, unit) : r.non_negative("value", value, unit);
+    return;
+  }
+  if (r.has("value")) r.fail("give either value=\"…\" or min=\"…\" max=\"…\" map=\"image\", not both");
+  if (!r.has("map") || !r.has("min") || !r.has("max"))
+    r.fail("a mapped parameter needs all of min=\"…\" max=\"…\" map=\"image\"");
+  map.min = r.number("min", 0, expected.c_str());
+  map.max = r.number("max", 0, expected.c_str());
+  if (positive ? !(map.min > 0) : !(map.min >= 0)) r.bad("min", expected);
+  if (positive ? !(map.max > 0) : !(map.max >= 0)) r.bad("max", expected);
+  if (map.min > map.max) r.fail("min=\"" + r.text("min") + "\" is above max=\"" + r.text("max") + "\"; expected min <= max");
+  if (r.text("map").empty()) r.bad("map", "an image file (PNG, JPEG, TGA or BMP)");
+  map.path = resolve(base, r.text("map"));
+  map.line = r.line();
+}
+
 void read_simulation(const std::string& file, const std::string& text, pugi::xml_node n, SimulationDesc& sim) {
   ElementReader r(file, text, n,
                   {"timestep", "fps", "startFrame", "endFrame", "integrator", "gravity", "collisionIterations",
-                   "broadPhase"});
+                   "broadPhase", "checkpointEvery"});
   sim.timestep = r.positive("timestep", sim.timestep, "s");
   sim.fps = r.positive("fps", sim.fps, "frames per second");
   sim.start_frame = r.integer("startFrame", sim.start_frame);
@@ -165,6 +189,8 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
   if (broad == "hash") sim.broad_phase = BroadPhase::hash;
   else if (broad == "bvh") sim.broad_phase = BroadPhase::bvh;
   else r.bad("broadPhase", "hash or bvh");
+  sim.checkpoint_every = r.integer("checkpointEvery", sim.checkpoint_every);
+  if (sim.checkpoint_every < 0) r.bad("checkpointEvery", "a number of frames >= 0 (0: no checkpoints)");
 }
 
 void read_forces(const std::string& file, const std::string& text, pugi::xml_node n, ForcesDesc& f) {
@@ -263,8 +289,9 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
     if (r.has("size")) r.fail("size applies to grid cloths only; use scale for an OBJ");
   } else {
     const auto g = r.numbers("grid", 2, "two integers \"NX NY\", each >= 2");
-    if (g[0] != std::floor(g[0]) || g[1] != std::floor(g[1]) || g[0] < 2 || g[1] < 2 || g[0] * g[1] > 1e8)
-      r.bad("grid", "two integers \"NX NY\", each >= 2");
+    if (g[0] != std::floor(g[0]) || g[1] != std::floor(g[1]) || g[0] < 2 || g[1] < 2 ||
+        g[0] * g[1] > double(limits::max_mesh_vertices))
+      r.bad("grid", "two integers \"NX NY\", each >= 2, with NX * NY <= " + std::to_string(limits::max_mesh_vertices));
     c.grid_nx = int(g[0]);
     c.grid_ny = int(g[1]);
     if (r.has("size")) {
@@ -278,29 +305,48 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
   c.save_name = r.text("saveName", c.name);
   if (c.save_name.empty() || c.save_name.find('/') != std::string::npos)
     r.bad("saveName", "a file name without '/'");
-  c.texture = r.text("texture");
+  c.texture = resolve(base, r.text("texture"));
   read_transform(r, c.transform);
   c.friction = r.non_negative("friction", c.friction, "Coulomb coefficient");
   c.restitution = r.non_negative("restitution", c.restitution, "0..1");
   if (c.restitution > 1) r.bad("restitution", "a number in [0, 1]");
   c.self_collision = r.boolean("selfCollision", c.self_collision);
 
+  bool has_density = false;
   for (pugi::xml_node p : n.children()) {
     if (p.type() != pugi::node_element) continue;
     const std::string name = p.name();
     if (name == "density") {
-      c.density = ElementReader(file, text, p, {"value"}).positive("value", c.density, "kg/m^2");
+      ElementReader s(file, text, p, {"value", "min", "max", "map"});
+      if (c.mass_per_vertex) s.fail("expected one of <density> or <mass>, not both");
+      has_density = true;
+      read_param(s, base, c.density, c.density_map, true, "kg/m^2");
+    } else if (name == "mass") {
+      ElementReader s(file, text, p, {"value", "min", "max", "map"});
+      if (has_density) s.fail("expected one of <density> or <mass>, not both");
+      if (!s.has("value") && !s.has("map")) s.fail("expected value=\"kg per vertex\" or min, max and map");
+      c.mass_per_vertex = true;
+      read_param(s, base, c.mass, c.mass_map, true, "kg per vertex");
     } else if (name == "stiffness") {
-      ElementReader s(file, text, p, {"value", "shear", "bend"});
-      c.stiffness = s.non_negative("value", c.stiffness, "N/m");
+      ElementReader s(file, text, p, {"value", "shear", "bend", "min", "max", "map"});
+      read_param(s, base, c.stiffness, c.stiffness_map, false, "N/m");
       c.shear_scale = s.non_negative("shear", c.shear_scale, "factor of value");
       c.bend_scale = s.non_negative("bend", c.bend_scale, "factor of value");
     } else if (name == "damping") {
-      c.damping = ElementReader(file, text, p, {"value"}).non_negative("value", c.damping, "N s/m");
+      read_param(ElementReader(file, text, p, {"value", "min", "max", "map"}), base, c.damping, c.damping_map, false,
+                 "N s/m");
     } else if (name == "thickness") {
-      c.thickness = ElementReader(file, text, p, {"value"}).positive("value", c.thickness, "m");
+      read_param(ElementReader(file, text, p, {"value", "min", "max", "map"}), base, c.thickness, c.thickness_map,
+                 true, "m");
     } else if (name == "pins") {
-      ElementReader s(file, text, p, {"vertices"});
+      ElementReader s(file, text, p, {"vertices", "map"});
+      if (s.has("map")) {
+        if (s.text("map").empty()) s.bad("map", "an image file (PNG, JPEG, TGA or BMP)");
+        c.pins_map.path = resolve(base, s.text("map"));
+        c.pins_map.min = 0;
+        c.pins_map.max = 1;
+        c.pins_map.line = s.line();
+      }
       std::istringstream in(s.text("vertices"));
       std::string tok;
       while (in >> tok) {
@@ -312,7 +358,7 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
       }
     } else {
       ElementReader::unknown_element(file, text, p,
-          "unknown element in <cloth>; expected density, stiffness, damping, thickness or pins");
+          "unknown element in <cloth>; expected density, mass, stiffness, damping, thickness or pins");
     }
   }
 }

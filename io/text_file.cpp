@@ -2,16 +2,24 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "core/error.h"
+#include "core/limits.h"
 
 namespace clothsim::io {
 
 std::string read_text_file(const std::string& path, const std::string& what) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path, std::string("cannot read file (") + std::strerror(errno) + "); expected " + what);
+  // The size is checked before the file is read into memory; a folder or a pipe reports no size and is read.
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (!ec && size > limits::max_input_file_bytes)
+    throw Error(path, "file of " + std::to_string(size) + " bytes; expected at most " +
+                          std::to_string(limits::max_input_file_bytes) + " (docs/errors.md)");
   std::ostringstream ss;
   ss << in.rdbuf();
   if (in.bad()) throw Error(path, "read failed; expected " + what);

@@ -62,12 +62,16 @@ void eval_springs_two_phase(const Model& m, std::span<const Vec3> x, std::span<c
     eval_spring_block(m, x, v, begin, std::min(begin + spring_lane_block, m.spring_count),
                       spring_force_out.data() + begin);
   });
+  gather_spring_forces(m, spring_force_out, f);
+}
+
+void gather_spring_forces(const Model& m, std::span<const Vec3> spring_force, std::span<Vec3> f) {
   parallel_over(m.particle_count, particle_grain, [&](Index i) {
     Vec3 sum = Vec3::Zero();
     for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
       const Index e = m.particle_spring_index[k];
-      if (e >= 0) sum += spring_force_out[e];
-      else sum -= spring_force_out[~e];
+      if (e >= 0) sum += spring_force[e];
+      else sum -= spring_force[~e];
     }
     f[i] = sum;
   });

@@ -38,6 +38,8 @@ void eval_springs(const Model& model, std::span<const Vec3> x, std::span<const V
 void eval_springs_gather(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f);
 void eval_springs_two_phase(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v,
                             std::span<Vec3> f, std::span<Vec3> spring_force);
+// The second phase of two_phase: f[i] = sum of the per-spring forces on particle i, in CSR order.
+void gather_spring_forces(const Model& model, std::span<const Vec3> spring_force, std::span<Vec3> f);
 
 // Blocked layout: f zeroed, then each pass of model.spring_pass_chunk scatters its chunks in parallel. Sums in
 // (pass, spring) order, not the CSR's: equal to gather up to rounding, and the same bytes at any thread count.

@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "io/mtl_writer.h"
 #include "io/obj_writer.h"
 #include "io/stats_json.h"
 #include "systems/collision_check.h"
@@ -21,6 +22,7 @@
 #include "tools/cli_args.h"
 #include "tools/commands.h"
 #include "tools/progress.h"
+#include "tools/run_checkpoints.h"
 #include "tools/scene_loader.h"
 
 namespace clothsim::cli {
@@ -34,6 +36,8 @@ const char* run_help =
     "  --stats FILE.json  counts, timings by phase, peak memory, per-frame strain and kinetic energy\n"
     "                     (with collisions: contacts, cloth-collider distances, penetrations)\n"
     "  --quiet            no progress on stderr\n"
+    "  --checkpoint-every K  checkpoint every K frames and at the end (default: the scene's checkpointEvery)\n"
+    "  --resume           continue from the newest valid checkpoint; later frames are recomputed identically\n"
     "Exit codes: 0 done, 2 bad input (file, line and what was expected on stderr), 3 diverged.";
 
 struct FrameRange {
@@ -71,7 +75,8 @@ void add_collision_stats(const Model& model, const State& state, Workspace& ws, 
 
 int cmd_run(int argc, char** argv) {
   const auto wall0 = std::chrono::steady_clock::now();
-  const Args args = parse_args(argc, argv, {"--out", "--threads", "--frames", "--stats"}, {"--quiet"});
+  const Args args = parse_args(argc, argv, {"--out", "--threads", "--frames", "--stats", "--checkpoint-every"},
+                               {"--quiet", "--resume"});
   if (args.help) { std::puts(run_help); return exit_ok; }
   if (args.positional.size() != 1) throw UsageError("expected one scene file");
   const int threads = args.has("--threads") ? parse_int("--threads", args.get("--threads"), 1)
@@ -94,6 +99,13 @@ int cmd_run(int argc, char** argv) {
                                           "; expected distinct saveName values");
   }
   for (const std::string& d : std::set<std::string>(dirs.begin(), dirs.end())) io::ensure_writable_dir(d);
+  for (std::size_t c = 0; c < model.cloths.size(); ++c) io::write_material(dirs[c], model.cloths[c]);
+
+  RunCheckpoints checkpoints(loaded.desc, model, state, dirs.front(),
+                             args.has("--checkpoint-every")
+                                 ? parse_int("--checkpoint-every", args.get("--checkpoint-every"), 0)
+                                 : loaded.desc.simulation.checkpoint_every);
+  const int first_frame = checkpoints.start(args.has("--resume"), state, args.has("--quiet"));
 
   Workspace ws = make_workspace(model);
   State scratch = state;
@@ -105,7 +117,7 @@ int cmd_run(int argc, char** argv) {
   Progress progress(frames.last - frames.first + 1, args.has("--quiet"));
   int status = exit_ok;
 
-  for (int frame = model.start_frame; frame <= frames.last; ++frame) {
+  for (int frame = first_frame; frame <= frames.last; ++frame) {
     if (frame > model.start_frame) step_frame(model, state, scratch, ws);
     if (!state_is_finite(state)) {
       std::fprintf(stderr,
@@ -128,6 +140,7 @@ int cmd_run(int argc, char** argv) {
     stats.write_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
     ++stats.frames_written;
     progress.frame_done(frame - frames.first + 1, frame);
+    checkpoints.frame_written(frame, frames.last, state);
   }
   progress.finish();
 

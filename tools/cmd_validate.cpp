@@ -22,6 +22,10 @@ int cmd_validate(int argc, char** argv) {
               m.spring_count, m.tri_count, m.pinned.size());
   std::printf("  frames %d..%d at %g fps, %d steps per frame of %.6g s\n", m.start_frame, m.end_frame, m.fps,
               m.steps_per_frame, m.dt);
+  // Whether each parameter stayed one scalar or became an array because a map was given (docs/maps.md).
+  auto form = [](const ParamField& f) { return f.uniform() ? "one value" : "per element (mapped or scaled)"; };
+  std::printf("  stiffness %s, damping %s, thickness %s\n", form(m.spring_ke), form(m.spring_kd),
+              form(m.particle_thickness));
   return exit_ok;
 }
 

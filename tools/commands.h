@@ -5,6 +5,7 @@ namespace clothsim::cli {
 int cmd_run(int argc, char** argv);
 int cmd_validate(int argc, char** argv);
 int cmd_info(int argc, char** argv);
+int cmd_batch(int argc, char** argv);
 int cmd_study(int argc, char** argv);
 
 // Exit codes shared by every command.

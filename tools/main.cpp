@@ -1,4 +1,5 @@
 // clothsim: the command-line front end. Errors from input are caught here, once, and become exit code 2.
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -16,6 +17,7 @@ const char* usage =
     "  run SCENE.xml       simulate and write one OBJ per frame\n"
     "  validate SCENE.xml  check a scene without simulating\n"
     "  info MESH.obj       mesh and spring counts, topology checks\n"
+    "  batch LIST          run many scenes, N at a time, resumable\n"
     "  study NAME ...      studies: accuracy, stability (integrators), scaling (threads)\n"
     "Run 'clothsim <command> --help' for the options of a command.\n";
 
@@ -27,11 +29,14 @@ int main(int argc, char** argv) {
     std::fputs(usage, argc < 2 ? stderr : stdout);
     return argc < 2 ? exit_bad_input : exit_ok;
   }
+  // A file-size limit (ulimit -f) must surface as a failed write (EFBIG, exit code 2), not kill the process.
+  std::signal(SIGXFSZ, SIG_IGN);
   const std::string command = argv[1];
   try {
     if (command == "run") return cmd_run(argc - 2, argv + 2);
     if (command == "validate") return cmd_validate(argc - 2, argv + 2);
     if (command == "info") return cmd_info(argc - 2, argv + 2);
+    if (command == "batch") return cmd_batch(argc - 2, argv + 2);
     if (command == "study") return cmd_study(argc - 2, argv + 2);
     std::fprintf(stderr, "clothsim: unknown command '%s'\n%s", command.c_str(), usage);
     return exit_bad_input;

@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "io/collider_reader.h"
+#include "io/cloth_maps.h"
 #include "io/obj_reader.h"
 #include "io/scene_xml.h"
 
@@ -16,6 +17,7 @@ LoadedScene load_scene(const std::string& path) {
   std::vector<MeshData> meshes;
   for (const ClothDesc& c : s.desc.cloths) meshes.push_back(c.obj.empty() ? make_cloth_grid(c) : io::read_obj(c.obj));
   const std::vector<ColliderMeshes> colliders = io::read_colliders(s.desc);
+  for (std::size_t c = 0; c < meshes.size(); ++c) meshes[c].params = io::sample_cloth_maps(s.desc, s.desc.cloths[c], meshes[c]);
   const auto t1 = clock::now();
   s.built = build_model(s.desc, meshes);
   build_collision(s.desc, colliders, s.built.state.x, s.built.model);

@@ -7,9 +7,9 @@ import tempfile
 from dataclasses import dataclass
 
 import bpy
-import numpy as np
 
-from . import mesh_files, scene_xml
+from . import collider_export, mesh_files, scene_xml
+from .mesh_export import mesh_obj_text
 
 
 @dataclass
@@ -26,7 +26,6 @@ class ExportedScene:
     start_frame: int
     end_frame: int
     cloths: list
-    skipped_colliders: list  # the scene parser on main has no collider element yet (issues 3 and 5)
 
 
 def work_dir_of(scene):
@@ -50,36 +49,15 @@ def safe_name(name, taken):
     return out
 
 
-def cloth_objects(scene):
-    """(object, file name) of every cloth, in a fixed order, so that a later Load Result finds the same files."""
+def objects_of_role(scene, role):
+    """(object, file name) of every mesh of a role, in a fixed order, so that Load Result finds the same files."""
     taken = set()
     return [(obj, safe_name(obj.name, taken)) for obj in scene.objects
-            if obj.type == "MESH" and obj.clothsim.role == "CLOTH"]
+            if obj.type == "MESH" and obj.clothsim.role == role]
 
 
-def world_positions(obj):
-    mesh = obj.data
-    co = np.empty(3 * len(mesh.vertices), dtype=np.float64)
-    mesh.vertices.foreach_get("co", co)
-    m = np.array(obj.matrix_world, dtype=np.float64)
-    return co.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3]
-
-
-def mesh_obj_text(obj, name):
-    """The base mesh (before modifiers: the Mesh Cache result goes first in the stack) as triangles."""
-    mesh = obj.data
-    mesh.calc_loop_triangles()
-    nt = len(mesh.loop_triangles)
-    tri_v = np.empty(3 * nt, dtype=np.int64)
-    mesh.loop_triangles.foreach_get("vertices", tri_v)
-    uvs = tri_uv = None
-    if mesh.uv_layers.active is not None:
-        uv = np.empty(2 * len(mesh.loops), dtype=np.float64)
-        mesh.uv_layers.active.data.foreach_get("uv", uv)
-        tri_uv = np.empty(3 * nt, dtype=np.int64)
-        mesh.loop_triangles.foreach_get("loops", tri_uv)
-        uvs, tri_uv = uv.reshape(-1, 2), tri_uv.reshape(-1, 3)
-    return mesh_files.format_obj(name, world_positions(obj), tri_v.reshape(-1, 3), tri_uv, uvs)
+def cloth_objects(scene):
+    return objects_of_role(scene, "CLOTH")
 
 
 def pinned_vertices(obj):
@@ -118,10 +96,10 @@ def export_scene(scene):
     frames_dir = frames_dir_of(work_dir)
     os.makedirs(frames_dir, exist_ok=True)
     specs, exported = [], []
-    colliders = [o.name for o in scene.objects if o.type == "MESH" and o.clothsim.role == "COLLIDER"]
     for obj, name in cloth_objects(scene):
         obj_path = os.path.join(work_dir, name + ".obj")
-        mesh_files.write_text_atomic(obj_path, mesh_obj_text(obj, name))
+        # The base mesh, before modifiers: the Mesh Cache with the result goes first in the stack.
+        mesh_files.write_text_atomic(obj_path, mesh_obj_text(obj.data, obj.matrix_world, name))
         # Old frames, and temporary files of a run killed mid-write (clothsim writes NAME.obj.tmpPID, renames).
         prefix = os.path.join(glob.escape(frames_dir), glob.escape(name))
         for old in glob.glob(prefix + ".[0-9][0-9][0-9][0-9].obj") + glob.glob(prefix + ".[0-9][0-9][0-9][0-9].obj.tmp*"):
@@ -135,6 +113,8 @@ def export_scene(scene):
     if not specs:
         raise ValueError("no cloth in the scene: mark a mesh as Cloth in Properties > Physics > clothsim")
     spec = scene_spec(scene, specs)
+    spec.colliders = collider_export.export_colliders(scene, work_dir, objects_of_role(scene, "COLLIDER"),
+                                                      spec.start_frame, spec.end_frame)
     path = os.path.join(work_dir, "scene.xml")
     mesh_files.write_text_atomic(path, scene_xml.format_scene(spec))
-    return ExportedScene(path, work_dir, spec.start_frame, spec.end_frame, exported, colliders)
+    return ExportedScene(path, work_dir, spec.start_frame, spec.end_frame, exported)

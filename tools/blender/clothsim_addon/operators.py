@@ -61,9 +61,6 @@ class CLOTHSIM_OT_simulate(bpy.types.Operator):
         except (ValueError, OSError) as e:
             self.report({"ERROR"}, f"clothsim: {e}")
             return False
-        if self.exported.skipped_colliders:
-            self.report({"WARNING"}, "clothsim: colliders not exported yet (the scene format has no collider "
-                                     "element): " + ", ".join(self.exported.skipped_colliders))
         try:
             self.job = runner.ClothsimJob(clothsim_binary(context), self.exported.path, context.scene.clothsim.threads)
         except RuntimeError as e:

@@ -34,15 +34,16 @@ class CLOTHSIM_PT_object(PhysicsTabPanel, bpy.types.Panel):
         col = layout.column()
         if s.role == "CLOTH":
             props(col, s, "density", "stiffness", "bend", "damping", "thickness")
-        props(col, s, "friction", "restitution")
         if s.role == "CLOTH":
-            col.prop(s, "self_collision")
+            props(col, s, "friction", "restitution", "self_collision")
             col.prop_search(s, "pin_group", obj, "vertex_groups")
             sub = col.column()
             sub.active = bool(s.pin_group)
             sub.prop(s, "pin_weight")
         else:
-            col.label(text="Colliders are exported once the scene format has them", icon="INFO")
+            props(col, s, "collider_shape", "friction")
+            if s.collider_shape == "MESH":
+                col.prop(s, "collider_animated")
 
 
 class CLOTHSIM_PT_run(PhysicsTabPanel, bpy.types.Panel):

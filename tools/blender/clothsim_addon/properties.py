@@ -23,6 +23,14 @@ class ClothsimObjectSettings(bpy.types.PropertyGroup):
         items=[("NONE", "None", "Not part of the clothsim scene"),
                ("CLOTH", "Cloth", "Simulated by clothsim: exported as a <cloth> element"),
                ("COLLIDER", "Collider", "An obstacle the cloth collides with")])
+    collider_shape: EnumProperty(
+        name="Shape", default="MESH",
+        items=[("MESH", "Mesh", "The evaluated mesh, triangulated (<static obj>)"),
+               ("SPHERE", "Sphere", "An exact sphere: the origin and half the largest dimension (<sphere>)"),
+               ("PLANE", "Plane", "An infinite plane through the origin, normal along local +Z (<plane>)")])
+    collider_animated: BoolProperty(
+        name="Animated", default=False,
+        description="Export one OBJ per frame from the evaluated (moved, deformed) mesh (<static sequence>)")
     density: FloatProperty(name="Density", default=0.2, min=1e-6, soft_max=5.0, precision=4,
                            description="Areal density, kg/m^2 (<density value>)")
     stiffness: FloatProperty(name="Stiffness", default=1000.0, min=0.0, soft_max=1e5,
@@ -35,7 +43,7 @@ class ClothsimObjectSettings(bpy.types.PropertyGroup):
                              subtype="DISTANCE", unit="LENGTH",
                              description="Collision thickness, m (<thickness value>)")
     friction: FloatProperty(name="Friction", default=0.3, min=0.0, soft_max=2.0,
-                            description="Coulomb friction coefficient (<cloth friction>)")
+                            description="Coulomb friction coefficient (<cloth friction>, <static|sphere|plane friction>)")
     restitution: FloatProperty(name="Restitution", default=0.0, min=0.0, soft_max=1.0,
                                description="Bounce, 0..1 (<cloth restitution>); clothsim rejects values over 1")
     self_collision: BoolProperty(name="Self-collision", default=False,

@@ -28,6 +28,19 @@ class ClothSpec:
 
 
 @dataclass
+class ColliderSpec:
+    kind: str                     # "static", "sphere" or "plane"
+    name: str
+    friction: float = 0.3
+    obj: str = ""                 # static: one mesh ...
+    sequence: str = ""            # ... or a frame pattern, '#' run = frame number
+    center: Vec3 = (0.0, 0.0, 0.0)
+    radius: float = 1.0           # m
+    point: Vec3 = (0.0, 0.0, 0.0)
+    normal: Vec3 = (0.0, 0.0, 1.0)
+
+
+@dataclass
 class SceneSpec:
     timestep: float = 0.001       # s
     fps: float = 24.0
@@ -39,12 +52,23 @@ class SceneSpec:
     wind_strength: float = 0.0    # kg/(m^2 s)
     air_damping: float = 0.0      # 1/s
     cloths: List[ClothSpec] = field(default_factory=list)
+    colliders: List[ColliderSpec] = field(default_factory=list)
+
+
+def _collider_attrs(c: ColliderSpec):
+    if c.kind == "sphere":
+        shape = [("center", _vec(c.center)), ("radius", _num(c.radius))]
+    elif c.kind == "plane":
+        shape = [("point", _vec(c.point)), ("normal", _vec(c.normal))]
+    else:
+        shape = [("sequence", c.sequence)] if c.sequence else [("obj", c.obj)]
+    return [("name", c.name)] + shape + [("friction", _num(c.friction))]
 
 
 def _num(x: float) -> str:
     # Blender keeps its properties in float32: 7 significant digits give back what was typed (0.15, not
     # 0.150000006), and float32 holds no more than that anyway.
-    return f"{float(x):.7g}"
+    return f"{float(x) + 0.0:.7g}"  # + 0.0 turns -0.0 into 0
 
 
 def _vec(v: Sequence[float]) -> str:
@@ -69,6 +93,8 @@ def format_scene(scene: SceneSpec) -> str:
         forces.append("    <airDamping " + _attrs([("value", _num(scene.air_damping))]) + "/>")
     if forces:
         out += ["  <forces>"] + forces + ["  </forces>"]
+    for c in scene.colliders:
+        out.append(f"  <{c.kind} " + _attrs(_collider_attrs(c)) + "/>")
     for c in scene.cloths:
         out.append("  <cloth " + _attrs([
             ("name", c.name), ("obj", c.obj), ("saveDir", c.save_dir), ("saveName", c.save_name),

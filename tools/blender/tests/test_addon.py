@@ -8,6 +8,7 @@ pinned vertices did not move, that UVs and material survive, and that clothsim's
 exit 3) come back as operator reports."""
 import math
 import os
+import re
 import shutil
 import sys
 import time
@@ -75,7 +76,7 @@ def build_scene():
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.3, location=(0, 0, 0.4))
     sphere = bpy.context.object
     sphere.name = "Ball"
-    sphere.clothsim.role = "COLLIDER"
+    sphere.clothsim.role = "COLLIDER"  # a mesh collider at first, out of the sheet's way
 
     scene.frame_start, scene.frame_end = 1, 12
     scene.render.fps, scene.render.fps_base = 24, 1.0
@@ -149,16 +150,17 @@ def expect_error(what, needle):
     check(False, f"{what}: Simulate reported no error")
 
 
-def test_errors(cloth):
+def test_errors(cloth, sphere):
     scene = bpy.context.scene
     scene.clothsim.use_scene_range = False
     scene.clothsim.frame_start, scene.clothsim.frame_end = 10, 5
     expect_error("bad frame range (exit 2)", "startFrame 10 is after endFrame 5")
     scene.clothsim.use_scene_range = True
     stiffness, timestep = cloth.clothsim.stiffness, scene.clothsim.timestep
-    cloth.clothsim.stiffness, scene.clothsim.timestep = 1e9, 0.01
+    # Without the collider: a cloth blown up to 1e30 m is a divergence test, not a broad-phase test.
+    cloth.clothsim.stiffness, scene.clothsim.timestep, sphere.clothsim.role = 1e9, 0.01, "NONE"
     expect_error("divergence (exit 3)", "diverged")
-    cloth.clothsim.stiffness, scene.clothsim.timestep = stiffness, timestep
+    cloth.clothsim.stiffness, scene.clothsim.timestep, sphere.clothsim.role = stiffness, timestep, "COLLIDER"
 
 
 def test_cancel(cloth):
@@ -181,13 +183,69 @@ def test_cancel(cloth):
     scene.frame_end, scene.clothsim.timestep = 12, 0.001
 
 
+def test_colliders(cloth, sphere):
+    """Colliders: an exact sphere the sheet falls onto, a plane, a static mesh written from its evaluated
+    (subdivided) shape and an animated mesh written frame by frame."""
+    scene = bpy.context.scene
+    cloth.clothsim.pin_group = ""
+    cloth.modifiers.remove(cloth.modifiers["clothsim"])  # it plays the diverged run: back to the mesh as built
+    centre = evaluated_world_positions(cloth).mean(axis=0)
+    sphere.location = centre - np.array([0.0, 0.0, 0.55])
+    sphere.clothsim.collider_shape = "SPHERE"
+
+    bpy.ops.mesh.primitive_plane_add(size=2, location=(0, 0, -1), rotation=(math.radians(30), 0, 0))
+    ground = bpy.context.object
+    ground.clothsim.role, ground.clothsim.collider_shape = "COLLIDER", "PLANE"
+    bpy.ops.mesh.primitive_cube_add(size=0.2, location=(3, 0, 0))
+    rock = bpy.context.object
+    rock.name = "Rock"
+    rock.modifiers.new("Subdivision", "SUBSURF").levels = 1
+    rock.clothsim.role = "COLLIDER"
+    bpy.ops.mesh.primitive_cube_add(size=0.2, location=(-3, 0, 0))
+    box = bpy.context.object
+    box.name = "Box"
+    box.clothsim.role, box.clothsim.collider_animated = "COLLIDER", True
+    box.keyframe_insert("location", frame=1)
+    box.location = (-3, 1, 0)
+    box.keyframe_insert("location", frame=12)
+
+    check(bpy.ops.clothsim.simulate() == {"FINISHED"}, "Simulate with colliders")
+    text = open(os.path.join(SCRATCH, "cache", "scene.xml")).read()
+    r = sphere.dimensions[0] / 2
+    m = re.search(r'<sphere name="Ball" center="([^"]*)" radius="([^"]*)"', text)
+    got = np.array(m.group(1).split(), dtype=float) if m else np.zeros(3)
+    check(m is not None and np.abs(got - np.array(sphere.location)).max() < 1e-6 and float(m.group(2)) == 0.3,
+          f"sphere: centre from the object, radius from its dimensions ({m and m.group(0)})")
+    check('<plane name="Plane" point="0 0 -1" normal="0 -0.5 0.8660254" friction="0.3"/>' in text,
+          "plane: its local +Z turned 30 degrees about X")
+
+    # The sheet fell onto the ball: nothing inside it, and some of it resting within a few thickness of it.
+    bpy.context.scene.frame_set(12)
+    dist = np.linalg.norm(evaluated_world_positions(cloth) - np.array(sphere.location), axis=1)
+    check(dist.min() > r - 0.001, f"no cloth vertex inside the sphere (closest {dist.min():.4f} m, radius {r:.4f})")
+    check(dist.min() < r + 0.02, f"the cloth reached the sphere (closest {dist.min():.4f} m)")
+
+    colliders = os.path.join(SCRATCH, "cache", "colliders")
+    dg = bpy.context.evaluated_depsgraph_get()
+    subdivided = rock.evaluated_get(dg).data
+    got = mesh_files.read_obj_positions(os.path.join(colliders, "Rock.obj"))
+    check(len(got) == len(subdivided.vertices) == 26, f"static mesh: the evaluated (subdivided) mesh ({len(got)} vertices)")
+    for f in (1, 6, 12):
+        scene.frame_set(f)
+        got = mesh_files.read_obj_positions(mesh_files.frame_path(colliders, "Box", f))
+        err = np.abs(got - evaluated_world_positions(box)).max()
+        check(err < 1e-6, f"animated mesh: frame {f} written where Blender has it ({err:.1e} m)")
+    check('sequence="' + os.path.join(colliders, "Box.####.obj") + '"' in text, "animated mesh: a <static sequence>")
+
+
 def main():
     shutil.rmtree(SCRATCH, ignore_errors=True)
     os.makedirs(SCRATCH)
     cloth, _sphere, corners = build_scene()
     test_simulate(cloth, corners)
-    test_errors(cloth)
+    test_errors(cloth, _sphere)
     test_cancel(cloth)
+    test_colliders(cloth, _sphere)
     print(f"{len(FAILURES)} failure(s)")
     sys.exit(1 if FAILURES else 0)
 

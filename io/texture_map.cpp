@@ -1,0 +1,70 @@
+#include "io/texture_map.h"
+
+#include <stb_image.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <memory>
+
+#include "core/error.h"
+
+namespace clothsim::io {
+namespace {
+
+// Rec. 709 luma weights, applied to the stored (gamma-encoded) values: a painter's grey 128 reads as 128.
+double luminance(const double* c, int channels) {
+  if (channels < 3) return c[0];  // grey, or grey + alpha
+  return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+}
+
+Real wrap(Real t) { return t >= 0 && t <= 1 ? t : t - std::floor(t); }
+
+}  // namespace
+
+GreyImage read_grey_image(const std::string& path) {
+  const char* expected = "; expected a PNG, JPEG, TGA or BMP image with 8 or 16 bits per channel";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path, std::string("cannot open the image (missing or unreadable)") + expected);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.empty()) throw Error(path, std::string("empty file") + expected);
+  const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+  const int size = static_cast<int>(bytes.size());
+
+  GreyImage img;
+  int channels = 0;
+  img.bits = stbi_is_16_bit_from_memory(data, size) ? 16 : 8;
+  void* pixels = img.bits == 16 ? static_cast<void*>(stbi_load_16_from_memory(data, size, &img.width, &img.height, &channels, 0))
+                                : static_cast<void*>(stbi_load_from_memory(data, size, &img.width, &img.height, &channels, 0));
+  if (!pixels) throw Error(path, std::string("cannot decode the image (") + stbi_failure_reason() + ")" + expected);
+  std::unique_ptr<void, void (*)(void*)> owner(pixels, stbi_image_free);
+  if (img.width <= 0 || img.height <= 0) throw Error(path, std::string("image has no pixels") + expected);
+
+  const std::size_t n = std::size_t(img.width) * img.height;
+  const double scale = img.bits == 16 ? 1.0 / 65535 : 1.0 / 255;
+  img.grey.resize(n);
+  double c[4];
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < channels; ++k)
+      c[k] = img.bits == 16 ? static_cast<const stbi_us*>(pixels)[i * channels + k]
+                            : static_cast<const stbi_uc*>(pixels)[i * channels + k];
+    img.grey[i] = std::clamp(luminance(c, channels) * scale, 0.0, 1.0);
+  }
+  return img;
+}
+
+Real sample_grey(const GreyImage& im, const Vec2& uv) {
+  const Real x = std::clamp(wrap(uv[0]) * im.width - 0.5, 0.0, Real(im.width - 1));
+  const Real y = std::clamp((1 - wrap(uv[1])) * im.height - 0.5, 0.0, Real(im.height - 1));
+  const int x0 = int(x), y0 = int(y);
+  const int x1 = std::min(x0 + 1, im.width - 1), y1 = std::min(y0 + 1, im.height - 1);
+  const Real fx = x - x0, fy = y - y0;
+  auto at = [&](int i, int j) { return im.grey[std::size_t(j) * im.width + i]; };
+  // a + f (b - a) rather than (1 - f) a + f b: equal texels give their value exactly, so a constant map
+  // reproduces a scalar parameter bit for bit.
+  auto mix = [](Real a, Real b, Real f) { return a + f * (b - a); };
+  return mix(mix(at(x0, y0), at(x1, y0), fx), mix(at(x0, y1), at(x1, y1), fx), fy);
+}
+
+}  // namespace clothsim::io

@@ -1,0 +1,54 @@
+#include "tools/run_checkpoints.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <vector>
+
+#include "io/checkpoint.h"
+#include "io/text_file.h"
+
+namespace clothsim::cli {
+
+RunCheckpoints::RunCheckpoints(const SceneDesc& scene, const Model& model, const State& initial, std::string dir,
+                               int every)
+    : dir_(std::move(dir)),
+      stem_(std::filesystem::path(scene.path).stem().string()),
+      every_(every),
+      start_frame_(model.start_frame),
+      fingerprint_(io::scene_fingerprint(io::read_text_file(scene.path, "a scene file"), model, initial.x)),
+      particle_count_(model.particle_count) {}
+
+int RunCheckpoints::start(bool resume, State& state, bool quiet) {
+  int first = start_frame_;
+  if (resume) {
+    std::vector<std::string> warnings;
+    auto c = io::find_latest_checkpoint(dir_, stem_, fingerprint_, particle_count_, warnings);
+    for (const std::string& w : warnings) std::fprintf(stderr, "clothsim: warning: %s\n", w.c_str());
+    if (c) {
+      state.x = std::move(c->state.x);
+      state.v = std::move(c->state.v);
+      state.time = c->state.time;
+      state.step = c->state.step;
+      first = c->frame + 1;
+      if (!quiet) std::fprintf(stderr, "clothsim: resuming after frame %d from its checkpoint\n", c->frame);
+    } else {
+      std::fprintf(stderr, "clothsim: warning: no valid checkpoint in %s; starting from frame %d\n",
+                   dir_.c_str(), start_frame_);
+    }
+  }
+  // Newer checkpoints describe frames this run replaces; a run that neither checkpoints nor resumes leaves
+  // them alone.
+  if (resume || every_ > 0) io::remove_checkpoints_after(dir_, stem_, first - 1);
+  return first;
+}
+
+void RunCheckpoints::frame_written(int frame, int last_frame, const State& state) {
+  if (every_ <= 0 || ((frame - start_frame_) % every_ != 0 && frame != last_frame)) return;
+  io::Checkpoint c;
+  c.fingerprint = fingerprint_;
+  c.frame = frame;
+  c.state = state;
+  io::write_checkpoint(dir_, stem_, c);
+}
+
+}  // namespace clothsim::cli
