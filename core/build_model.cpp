@@ -5,6 +5,7 @@
 #include <limits>
 #include <numeric>
 
+#include "core/csr.h"
 #include "core/build_collision.h"
 #include "core/error.h"
 #include "core/grid.h"
@@ -38,18 +39,6 @@ Real kind_scale(const ClothDesc& cloth, SpringKind k) {
     case SpringKind::flex: return cloth.bend_scale;
     default: return 1;
   }
-}
-
-// Counting sort of (particle, entry) pairs into CSR: entries of a particle keep their input order, so the
-// gather that reads them sums in the same order at any thread count.
-void build_csr(Index n, const std::vector<Index>& owner, const std::vector<Index>& entry,
-               std::vector<Index>& offset, std::vector<Index>& index) {
-  offset.assign(std::size_t(n) + 1, 0);
-  for (Index p : owner) ++offset[p + 1];
-  std::partial_sum(offset.begin(), offset.end(), offset.begin());
-  index.resize(owner.size());
-  std::vector<Index> fill(offset.begin(), offset.end() - 1);
-  for (std::size_t k = 0; k < owner.size(); ++k) index[fill[owner[k]]++] = entry[k];
 }
 
 // A cloth's per-vertex parameter: the sampled array when its map was given, else its one uniform value.
@@ -202,16 +191,7 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
   }
   if (m.needs_normals()) m.particle_area = std::move(area);
 
-  {
-    std::vector<Index> owner, entry;
-    owner.reserve(2 * std::size_t(m.spring_count));
-    entry.reserve(2 * std::size_t(m.spring_count));
-    for (Index s = 0; s < m.spring_count; ++s) {
-      owner.push_back(m.spring_a[s]); entry.push_back(s);
-      owner.push_back(m.spring_b[s]); entry.push_back(~s);
-    }
-    build_csr(m.particle_count, owner, entry, m.particle_spring_offset, m.particle_spring_index);
-  }
+  build_particle_springs(m);
   {
     std::vector<Index> owner(m.tri_index.begin(), m.tri_index.end()), entry(m.tri_index.size());
     for (std::size_t k = 0; k < entry.size(); ++k) entry[k] = Index(k / 3);

@@ -18,7 +18,7 @@ const char* usage =
     "  validate SCENE.xml  check a scene without simulating\n"
     "  info MESH.obj       mesh and spring counts, topology checks\n"
     "  batch LIST          run many scenes, N at a time, resumable\n"
-    "  study NAME ...      studies of the solver (scaling)\n"
+    "  study NAME ...      studies: accuracy, stability (integrators), scaling (threads)\n"
     "Run 'clothsim <command> --help' for the options of a command.\n";
 
 }  // namespace

@@ -2,6 +2,10 @@
 // The `clothsim study` sub-commands, one file each (tools/study_<name>.cpp); each returns the exit code.
 namespace clothsim::cli {
 
+// study accuracy [--out DIR] [--quick]: work-precision and convergence of every integrator (issue 6).
+int study_accuracy(int argc, char** argv);
+// study stability [--out DIR] [--quick]: largest stable step and stiffness against theory (issue 6).
+int study_stability(int argc, char** argv);
 // study scaling SCENE.xml --threads 1,2,4 [--weak]: speed-up and parallel efficiency (issue 7 §4).
 int study_scaling(int argc, char** argv);
 
