@@ -21,6 +21,7 @@ inline const std::vector<StudyMethod> study_methods{
     {Integrator::euler, "euler", 1},
     {Integrator::symplectic, "symplectic", 1},
     {Integrator::rk4, "rk4", 4},
+    {Integrator::implicit, "implicit", 1},
 };
 
 struct TimedRun {

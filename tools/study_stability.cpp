@@ -48,6 +48,7 @@ double theory_limit(Integrator integrator) {
     case Integrator::euler: return std::log(2.0) / (200 * pi);
     case Integrator::symplectic: return 2;
     case Integrator::rk4: return 2 * std::numbers::sqrt2;
+    case Integrator::implicit: return INFINITY;  // backward Euler is A-stable: stable at every step
   }
   return NAN;
 }
