@@ -1,6 +1,7 @@
 #include "systems/integrate_implicit.h"
 
 #include <cmath>
+#include <limits>
 
 #include "systems/forces.h"
 #include "systems/parallel.h"
@@ -103,11 +104,17 @@ CgResult solve_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h
   Real rr = bb, rz = start[1];
   const Real stop = m.cg_tolerance * m.cg_tolerance * bb;
   CgResult res;
-  if (!(bb > 0)) return res;
+  // Below the smallest normal double a dot product keeps only a few significant bits, and alpha = rz / pq built
+  // from two such numbers can be off by orders of magnitude: a motion decaying to exactly zero (the undamped chain
+  // of the stability study at h w = 44) blew up to 1e53 J that way. Such a right-hand side or search direction is
+  // zero for the solve's purpose.
+  constexpr Real smallest_normal = std::numeric_limits<Real>::min();
+  if (!(bb >= smallest_normal)) return res;
   while (rr > stop && res.iterations < m.cg_max_iterations) {
     apply_system(m, x, h, layout, ws, p, q);
     const Real pq = deterministic_sum(n, particle_grain, Real(0), [&](Index i) { return p[i].dot(q[i]); });
-    if (!(pq > 0)) break;  // A is positive definite by construction; this guards round-off at convergence
+    // A is positive definite by construction; this guards round-off at convergence and subnormal directions.
+    if (!(pq >= smallest_normal && rz >= smallest_normal)) break;
     const Real alpha = rz / pq;
     const Sums2 next = deterministic_sum(n, particle_grain, Sums2(Sums2::Zero()), [&](Index i) {
       y[i] += alpha * p[i];
