@@ -1,11 +1,14 @@
 #include "tools/study_run.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <limits>
+#include <thread>
 #include <utility>
+#include <vector>
 
 #include "io/atomic_file.h"
 #include "systems/diagnostics.h"
@@ -33,8 +36,20 @@ std::string csv_number(double v) {
 
 double cpu_now() {
   timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+void run_tasks_in_parallel(std::size_t count, const std::function<void(std::size_t)>& task) {
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t i = next++; i < count; i = next++) task(i);
+  };
+  const std::size_t threads = std::min<std::size_t>(count, std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
 }
 
 TimedRun timed_run(const Model& base, const State& initial, Integrator integrator, Real h, std::int64_t steps,

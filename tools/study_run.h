@@ -2,6 +2,7 @@
 // What the studies share: the list of integrators they compare, a timed run of a fixed number of steps, and
 // the least-squares convergence order.
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -50,8 +51,14 @@ StudyOptions parse_study_options(int argc, char** argv, const std::string& defau
 // A number for the CSV files: 12 significant digits, "nan" and "inf" as gnuplot reads them.
 std::string csv_number(double v);
 
-// Process CPU seconds (the studies run TBB on one thread, so this is the work of the run itself).
+// CPU seconds of the calling thread. The studies limit TBB to one thread, so a run's kernels execute on the
+// thread that calls step(): its CPU time is the run's work alone, even while other runs go on beside it.
 double cpu_now();
+
+// Calls task(0) .. task(count - 1), each once, on as many threads as the machine has cores (none hard-wired).
+// The studies' runs are independent and each is timed by its own thread's CPU clock, so running them side by
+// side changes no figure but the wall time.
+void run_tasks_in_parallel(std::size_t count, const std::function<void(std::size_t)>& task);
 
 // Least-squares slope of log(error) against log(step): the measured order of convergence. Points with a
 // non-finite or non-positive error are left out; NaN when fewer than two remain.

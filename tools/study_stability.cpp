@@ -142,18 +142,27 @@ std::string chart_commands() {
       "set title 'Largest bounded time step against stiffness'\n"
       "set xlabel 'spring stiffness, N/m'\nset ylabel 'time step, s'\nplot ";
   for (std::size_t k = 0; k < study_methods.size(); ++k) {
-    const std::string m = study_methods[k].name, filter = "strcol(1) eq '" + m + "'";
-    s += std::string(k ? ", \\\n     " : "") + "'stability_step.csv' every ::1 using (" + filter +
-         " ? $2 : NaN):(strcol(6) eq 'limit' ? $4 : NaN) with points pt " + std::to_string(k + 5) + " ps 1.5 lc " +
-         std::to_string(k + 1) + " title '" + m + " measured', 'stability_step.csv' every ::1 using (" + filter +
-         " ? $2 : NaN):5 with lines dt 2 lc " + std::to_string(k + 1) + " title '" + m + " theory'";
+    const std::string m = study_methods[k].name, filter = "strcol(1) eq '" + m + "'", colour = std::to_string(k + 1);
+    s += std::string(k ? ", \\\n     " : "");
+    if (std::isfinite(theory_limit(study_methods[k].integrator))) {
+      s += "'stability_step.csv' every ::1 using (" + filter + " ? $2 : NaN):(strcol(6) eq 'limit' ? $4 : NaN) " +
+           "with points pt " + std::to_string(k + 5) + " ps 1.5 lc " + colour + " title '" + m + " measured', " +
+           "'stability_step.csv' every ::1 using (" + filter + " ? $2 : NaN):5 with lines dt 2 lc " + colour +
+           " title '" + m + " theory'";
+    } else {
+      // No limit in theory (backward Euler): the runs still bounded at the search cap (1000 / w_max) are drawn
+      // at the cap, since the limit, if any, lies above it.
+      s += "'stability_step.csv' every ::1 using (" + filter + " ? $2 : NaN):(strcol(6) eq 'bounded_at_cap' ? $4 : " +
+           "NaN) with points pt 8 ps 1.5 lc " + colour + " title '" + m + " bounded at the search cap'";
+    }
   }
   s += "\nset title 'Largest bounded stiffness at a 1 ms step'\nunset logscale x\nset format x '%g'\n"
        "set xlabel ''\nset ylabel 'spring stiffness, N/m'\nset xrange [-0.5:" +
        std::to_string(study_methods.size() - 0.5) + "]\nset key top left\n"
        "plot 'stability_stiffness.csv' every ::1 using 0:(strcol(6) eq 'limit' ? $3 : NaN):xtic(1) with points "
        "pt 7 ps 2 title 'measured', 'stability_stiffness.csv' every ::1 using 0:4 with points pt 6 ps 3 "
-       "title 'theory'\nunset multiplot\n";
+       "title 'theory', 'stability_stiffness.csv' every ::1 using 0:(strcol(6) eq 'bounded_at_cap' ? $3 : NaN) "
+       "with points pt 8 ps 2 lc 7 title 'bounded at the search cap'\nunset multiplot\n";
   return s;
 }
 
@@ -172,25 +181,31 @@ int study_stability(int argc, char** argv) {
   std::vector<double> stiffnesses;
   for (int j = 0; j <= 8; j += quick ? 4 : 1) stiffnesses.push_back(std::pow(10.0, 1 + 0.5 * j));
 
+  // Every (method, stiffness) search is independent: they run side by side, one per core, and their rows are
+  // gathered back in a fixed order. Each run uses one thread, so the results do not depend on the core count.
+  std::vector<std::string> step_rows(study_methods.size() * stiffnesses.size());
+  run_tasks_in_parallel(step_rows.size(), [&](std::size_t task) {
+    const StudyMethod& m = study_methods[task / stiffnesses.size()];
+    const double k = stiffnesses[task % stiffnesses.size()];
+    const Chain chain = make_chain(k);
+    const double w = chain.omega_max, theory = theory_limit(m.integrator) / w;
+    const Limit lim = largest_bounded([&](double h) { return stays_bounded(chain, m.integrator, h); }, 3 / w,
+                                      cap_hw / w, tolerance);
+    std::fprintf(stderr, "  %-10s k=%-8.3g w_max=%-8.4g largest bounded step %.5g s%s, theory %.5g s\n", m.name, k,
+                 w, lim.value, lim.at_cap ? " (search cap)" : "", theory);
+    step_rows[task] = std::string(m.name) + "," + csv_number(k) + "," + csv_number(w) + "," +
+                      csv_number(lim.value) + "," + csv_number(theory) + "," +
+                      (lim.at_cap ? "bounded_at_cap" : "limit") + "," +
+                      csv_number(std::isfinite(theory) ? lim.value / theory : NAN) + "\n";
+  });
   std::string steps_csv = "method,stiffness_n_per_m,omega_max,measured_step_s,theory_step_s,status,ratio\n";
-  for (const StudyMethod& m : study_methods) {
-    for (double k : stiffnesses) {
-      const Chain chain = make_chain(k);
-      const double w = chain.omega_max, theory = theory_limit(m.integrator) / w;
-      const Limit lim = largest_bounded([&](double h) { return stays_bounded(chain, m.integrator, h); }, 3 / w,
-                                        cap_hw / w, tolerance);
-      std::fprintf(stderr, "  %-10s k=%-8.3g w_max=%-8.4g largest bounded step %.5g s%s, theory %.5g s\n", m.name, k,
-                   w, lim.value, lim.at_cap ? " (search cap)" : "", theory);
-      steps_csv += std::string(m.name) + "," + csv_number(k) + "," + csv_number(w) + "," + csv_number(lim.value) + "," +
-                   csv_number(theory) + "," + (lim.at_cap ? "bounded_at_cap" : "limit") + "," +
-                   csv_number(std::isfinite(theory) ? lim.value / theory : NAN) + "\n";
-    }
-  }
+  for (const std::string& row : step_rows) steps_csv += row;
 
   // Largest stiffness at a fixed step: w_max(k) = c sqrt(k), so the theory is k = (limit / (h c))^2.
   const double c_unit = make_chain(1).omega_max;
-  std::string stiff_csv = "method,step_s,measured_stiffness_n_per_m,theory_stiffness_n_per_m,ratio,status\n";
-  for (const StudyMethod& m : study_methods) {
+  std::vector<std::string> stiff_rows(study_methods.size());
+  run_tasks_in_parallel(stiff_rows.size(), [&](std::size_t task) {
+    const StudyMethod& m = study_methods[task];
     const double theory = std::pow(theory_limit(m.integrator) / (fixed_step * c_unit), 2);
     const double guess = std::pow(3 / (fixed_step * c_unit), 2);
     const Limit lim = largest_bounded(
@@ -198,10 +213,12 @@ int study_stability(int argc, char** argv) {
         guess * cap_hw * cap_hw, tolerance);
     std::fprintf(stderr, "  %-10s h=%g s: largest bounded stiffness %.5g N/m%s, theory %.5g N/m\n", m.name,
                  fixed_step, lim.value, lim.at_cap ? " (search cap)" : "", theory);
-    stiff_csv += std::string(m.name) + "," + csv_number(fixed_step) + "," + csv_number(lim.value) + "," + csv_number(theory) +
-                 "," + csv_number(std::isfinite(theory) ? lim.value / theory : NAN) + "," +
-                 (lim.at_cap ? "bounded_at_cap" : "limit") + "\n";
-  }
+    stiff_rows[task] = std::string(m.name) + "," + csv_number(fixed_step) + "," + csv_number(lim.value) + "," +
+                       csv_number(theory) + "," + csv_number(std::isfinite(theory) ? lim.value / theory : NAN) + "," +
+                       (lim.at_cap ? "bounded_at_cap" : "limit") + "\n";
+  });
+  std::string stiff_csv = "method,step_s,measured_stiffness_n_per_m,theory_stiffness_n_per_m,ratio,status\n";
+  for (const std::string& row : stiff_rows) stiff_csv += row;
 
   const std::filesystem::path dir(out);
   io::write_file_atomic((dir / "stability_step.csv").string(), steps_csv);
