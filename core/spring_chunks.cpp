@@ -1,10 +1,40 @@
 #include "core/spring_chunks.h"
 
 #include <algorithm>
+#include <bit>
 
 namespace clothsim {
 
+namespace {
+
+Index auto_chunk_size(Index springs) {
+  const Index want = std::max<Index>(1, springs / spring_chunks_wanted);
+  return std::clamp(Index(std::bit_floor(std::uint64_t(want))), spring_chunk_min, spring_chunk_max);
+}
+
+// Appends to offset/range, per chunk, the runs of particles whose owner (opening or closing chunk) it is;
+// owner == chunks (no span) goes to the last slot, handled after the passes.
+void owner_ranges(const std::vector<Index>& owner, Index chunks, std::vector<Index>& offset,
+                  std::vector<Index>& range) {
+  std::vector<std::vector<Index>> per(chunks + 1);
+  for (Index i = 0, n = Index(owner.size()); i < n;) {
+    Index end = i + 1;
+    while (end < n && owner[end] == owner[i]) ++end;
+    per[owner[i]].insert(per[owner[i]].end(), {i, end});
+    i = end;
+  }
+  offset.assign(1, 0);
+  range.clear();
+  for (const auto& r : per) {
+    range.insert(range.end(), r.begin(), r.end());
+    offset.push_back(Index(range.size() / 2));
+  }
+}
+
+}  // namespace
+
 bool build_spring_chunks(Model& m, Index chunk_size, Index max_passes) {
+  if (chunk_size <= 0) chunk_size = auto_chunk_size(m.spring_count);
   struct Span {
     Index lo, hi, chunk;
   };
@@ -29,13 +59,24 @@ bool build_spring_chunks(Model& m, Index chunk_size, Index max_passes) {
     }
     pass->push_back(span);
   }
+  const Index chunks = Index(offset.size()) - 1;
   m.spring_chunk_offset = std::move(offset);
   m.spring_pass_offset.assign(1, 0);
   m.spring_pass_chunk.clear();
+  // Opening chunk: the first in pass order whose span holds the particle; closing chunk: the last.
+  std::vector<Index> open(m.particle_count, chunks), close(m.particle_count, chunks);
   for (const auto& pass : passes) {
-    for (const Span& s : pass) m.spring_pass_chunk.push_back(s.chunk);
+    for (const Span& s : pass) {
+      m.spring_pass_chunk.push_back(s.chunk);
+      for (Index i = s.lo; i <= s.hi; ++i) {
+        if (open[i] == chunks) open[i] = s.chunk;
+        close[i] = s.chunk;
+      }
+    }
     m.spring_pass_offset.push_back(Index(m.spring_pass_chunk.size()));
   }
+  owner_ranges(open, chunks, m.spring_chunk_open_offset, m.spring_chunk_open_range);
+  owner_ranges(close, chunks, m.spring_chunk_close_offset, m.spring_chunk_close_range);
   return true;
 }
 

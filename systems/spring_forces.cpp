@@ -77,26 +77,25 @@ void gather_spring_forces(const Model& m, std::span<const Vec3> spring_force, st
   });
 }
 
-void eval_springs_blocked(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f) {
-  parallel_over(m.particle_count, particle_grain, [&](Index i) { f[i] = Vec3::Zero(); });
-  const Index passes = Index(m.spring_pass_offset.size()) - 1;
-  for (Index p = 0; p < passes; ++p) {
-    const Index first = m.spring_pass_offset[p];
-    // One chunk per task: chunks of a pass touch disjoint particles, and a chunk adds in spring order.
-    parallel_over(m.spring_pass_offset[p + 1] - first, 1, [&](Index k) {
-      const Index chunk = m.spring_pass_chunk[first + k];
-      const Index end = m.spring_chunk_offset[chunk + 1];
-      Vec3 lane[spring_lane_block];
-      for (Index begin = m.spring_chunk_offset[chunk]; begin < end; begin += spring_lane_block) {
-        const Index stop = std::min(begin + spring_lane_block, end);
-        eval_spring_block(m, x, v, begin, stop, lane);
-        for (Index s = begin; s < stop; ++s) {
-          f[m.spring_a[s]] += lane[s - begin];
-          f[m.spring_b[s]] -= lane[s - begin];
-        }
-      }
-    });
+void scatter_spring_chunk(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f,
+                          Index chunk) {
+  for (Index r = m.spring_chunk_open_offset[chunk]; r < m.spring_chunk_open_offset[chunk + 1]; ++r)
+    std::fill(f.begin() + m.spring_chunk_open_range[2 * r], f.begin() + m.spring_chunk_open_range[2 * r + 1],
+              Vec3::Zero());
+  const Index end = m.spring_chunk_offset[chunk + 1];
+  Vec3 lane[spring_lane_block];
+  for (Index begin = m.spring_chunk_offset[chunk]; begin < end; begin += spring_lane_block) {
+    const Index stop = std::min(begin + spring_lane_block, end);
+    eval_spring_block(m, x, v, begin, stop, lane);
+    for (Index s = begin; s < stop; ++s) {
+      f[m.spring_a[s]] += lane[s - begin];
+      f[m.spring_b[s]] -= lane[s - begin];
+    }
   }
+}
+
+void eval_springs_blocked(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f) {
+  eval_springs_blocked_then(m, x, v, f, [](Index) {});
 }
 
 void eval_springs(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f,

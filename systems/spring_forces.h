@@ -4,6 +4,7 @@
 #include <span>
 
 #include "core/model.h"
+#include "systems/parallel.h"
 
 namespace clothsim {
 
@@ -41,9 +42,45 @@ void eval_springs_two_phase(const Model& model, std::span<const Vec3> x, std::sp
 // The second phase of two_phase: f[i] = sum of the per-spring forces on particle i, in CSR order.
 void gather_spring_forces(const Model& model, std::span<const Vec3> spring_force, std::span<Vec3> f);
 
-// Blocked layout: f zeroed, then each pass of model.spring_pass_chunk scatters its chunks in parallel. Sums in
-// (pass, spring) order, not the CSR's: equal to gather up to rounding, and the same bytes at any thread count.
+// Blocked layout: each pass of model.spring_pass_chunk scatters its chunks in parallel; a chunk zeroes f of the
+// particles it opens before its springs (core/spring_chunks.h). Sums in (pass, spring) order, not the CSR's:
+// equal to gather up to rounding, and the same bytes at any thread count.
 void eval_springs_blocked(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f);
+
+// One chunk of the blocked layout: zeroes f of the particles it opens, then adds its springs in order.
+void scatter_spring_chunk(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f,
+                          Index chunk);
+
+// eval_springs_blocked, then close(i) once per particle as soon as f[i] is final: inside the chunk that closes
+// particle i, while its data is in cache. close(i) may overwrite x[i] and v[i] (no spring reads them after) and
+// must not touch another particle. The bytes of f are those of eval_springs_blocked.
+template <class Close>
+void eval_springs_blocked_then(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v,
+                               std::span<Vec3> f, Close&& close) {
+  auto close_ranges = [&](Index slot) {
+    for (Index r = m.spring_chunk_close_offset[slot]; r < m.spring_chunk_close_offset[slot + 1]; ++r)
+      for (Index i = m.spring_chunk_close_range[2 * r]; i < m.spring_chunk_close_range[2 * r + 1]; ++i) close(i);
+  };
+  const Index passes = Index(m.spring_pass_offset.size()) - 1;
+  for (Index p = 0; p < passes; ++p) {
+    const Index first = m.spring_pass_offset[p];
+    // One chunk per task: chunks of a pass touch disjoint particles, and a chunk adds in spring order.
+    parallel_over(m.spring_pass_offset[p + 1] - first, 1, [&](Index k) {
+      const Index chunk = m.spring_pass_chunk[first + k];
+      scatter_spring_chunk(m, x, v, f, chunk);
+      close_ranges(chunk);
+    });
+  }
+  // Particles no chunk spans (no springs, or outside every span): no spring force.
+  const Index rest = Index(m.spring_chunk_offset.size()) - 1;
+  for (Index r = m.spring_chunk_close_offset[rest]; r < m.spring_chunk_close_offset[rest + 1]; ++r) {
+    const Index begin = m.spring_chunk_close_range[2 * r];
+    parallel_over(m.spring_chunk_close_range[2 * r + 1] - begin, particle_grain, [&](Index k) {
+      f[begin + k] = Vec3::Zero();
+      close(begin + k);
+    });
+  }
+}
 
 // Largest strain (|d| - rest)/rest over all springs: a maximum, so exact at any thread count.
 Real max_spring_strain(const Model& model, std::span<const Vec3> x);
