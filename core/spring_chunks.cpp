@@ -31,10 +31,35 @@ void owner_ranges(const std::vector<Index>& owner, Index chunks, std::vector<Ind
   }
 }
 
+// spring_block_close: for each block of each chunk, how many of the chunk's closing particles (in the order of
+// its close ranges) have no spring of the chunk after that block. A prefix, so the kernel closes by a cursor.
+void build_block_close(Model& m, Index chunk_size, const std::vector<Index>& close) {
+  std::vector<Index> last(m.particle_count, -1);  // last spring of its closing chunk touching the particle
+  for (Index s = 0; s < m.spring_count; ++s)
+    for (Index i : {m.spring_a[s], m.spring_b[s]})
+      if (close[i] == s / chunk_size) last[i] = s;
+  m.spring_block_close.assign((m.spring_count + spring_block_size - 1) / spring_block_size, 0);
+  const Index chunks = Index(m.spring_chunk_offset.size()) - 1;
+  for (Index c = 0; c < chunks; ++c) {
+    Index r = m.spring_chunk_close_offset[c], r_end = m.spring_chunk_close_offset[c + 1];
+    Index i = r < r_end ? m.spring_chunk_close_range[2 * r] : 0, done = 0, latest = -1;
+    for (Index begin = m.spring_chunk_offset[c]; begin < m.spring_chunk_offset[c + 1]; begin += spring_block_size) {
+      const Index block_end = std::min(begin + spring_block_size, m.spring_chunk_offset[c + 1]);
+      while (r < r_end && std::max(latest, last[i]) < block_end) {
+        latest = std::max(latest, last[i]);
+        ++done;
+        if (++i == m.spring_chunk_close_range[2 * r + 1] && ++r < r_end) i = m.spring_chunk_close_range[2 * r];
+      }
+      m.spring_block_close[begin / spring_block_size] = done;
+    }
+  }
+}
+
 }  // namespace
 
 bool build_spring_chunks(Model& m, Index chunk_size, Index max_passes) {
   if (chunk_size <= 0) chunk_size = auto_chunk_size(m.spring_count);
+  chunk_size = (chunk_size + spring_block_size - 1) / spring_block_size * spring_block_size;
   struct Span {
     Index lo, hi, chunk;
   };
@@ -77,6 +102,7 @@ bool build_spring_chunks(Model& m, Index chunk_size, Index max_passes) {
   }
   owner_ranges(open, chunks, m.spring_chunk_open_offset, m.spring_chunk_open_range);
   owner_ranges(close, chunks, m.spring_chunk_close_offset, m.spring_chunk_close_range);
+  build_block_close(m, chunk_size, close);
   return true;
 }
 
