@@ -101,6 +101,26 @@ TEST_CASE("fused force stage: every particle opened and closed once, after its l
     CHECK(order[open[i]] <= order[close[i]]);
     CHECK(order[close[i]] >= last_spring[i]);
   }
+  // Within its closing chunk, a particle is closed after the block of the chunk's last spring touching it, and
+  // every closing particle is closed by the chunk's last block.
+  constexpr Index block = spring_block_size;
+  for (Index c = 0; c < chunks; ++c) {
+    std::vector<Index> closing;  // in cursor order
+    for (Index r = m.spring_chunk_close_offset[c]; r < m.spring_chunk_close_offset[c + 1]; ++r)
+      for (Index i = m.spring_chunk_close_range[2 * r]; i < m.spring_chunk_close_range[2 * r + 1]; ++i)
+        closing.push_back(i);
+    const Index begin = m.spring_chunk_offset[c], end = m.spring_chunk_offset[c + 1];
+    Index before = 0;
+    for (Index first = begin; first < end; first += block) {
+      const Index ready = m.spring_block_close[first / block];
+      CHECK(ready >= before);
+      for (Index k = 0; k < ready; ++k)
+        for (Index s = std::min(first + block, end); s < end; ++s)
+          REQUIRE((m.spring_a[s] != closing[k] && m.spring_b[s] != closing[k]));
+      before = ready;
+    }
+    CHECK(before == Index(closing.size()));
+  }
 }
 
 TEST_CASE("fused force stage: particles of no chunk fall freely") {
