@@ -8,6 +8,7 @@
 
 #include "bench/sheet_scene.h"
 #include "core/spring_chunks.h"
+#include "spring_fixtures.h"
 #include "systems/step.h"
 
 using namespace clothsim;
@@ -24,26 +25,14 @@ BuiltScene windy_sheet(Integrator integrator) {
   BuiltScene b = build_model(s, {make_cloth_grid(s.cloths[0])});
   REQUIRE(build_spring_chunks(b.model, 256));
   REQUIRE(b.model.spring_pass_offset.size() > 3);
-  std::uint64_t r = 777;
-  auto next = [&r] {
-    r = r * 6364136223846793005ull + 1442695040888963407ull;
-    return double(r >> 11) / double(1ull << 53) - 0.5;
-  };
-  for (Index i = 0; i < b.model.particle_count; ++i) {
-    b.state.x[i] += 0.01 * Vec3(next(), next(), next());
-    b.state.v[i] = Vec3(next(), next(), next());
-  }
+  test::perturb_state(b.state, 777, 0.01);
   return b;
 }
 
-State run_steps(const Model& m, State s, int steps, int threads) {
+State run_on_threads(const Model& m, State s, int steps, int threads) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   Workspace ws = make_workspace(m);
-  State scratch = s;
-  for (int k = 0; k < steps; ++k) {
-    step(m, s, scratch, ws, m.dt);
-    std::swap(s, scratch);
-  }
+  test::run_steps(m, s, ws, m.dt, steps);
   return s;
 }
 
@@ -63,9 +52,9 @@ TEST_CASE("fused force stage: same bytes as separate passes, at 1, 2 and 3 threa
     Model& m = b.model;
     REQUIRE(m.spring_layout == SpringLayout::blocked);
     m.fuse_particle_pass = false;
-    const State reference = run_steps(m, b.state, 3, 1);
+    const State reference = run_on_threads(m, b.state, 3, 1);
     m.fuse_particle_pass = true;
-    for (int t = 1; t <= 3; ++t) CHECK(same_bytes(run_steps(m, b.state, 3, t), reference));
+    for (int t = 1; t <= 3; ++t) CHECK(same_bytes(run_on_threads(m, b.state, 3, t), reference));
     // The state moved: the comparison is not of two copies of the start.
     CHECK((reference.x[500] - b.state.x[500]).norm() > 1e-9);
   }
@@ -136,7 +125,7 @@ TEST_CASE("fused force stage: particles of no chunk fall freely") {
   REQUIRE(build_spring_chunks(m, 256));
   const Index free_particle = m.particle_count - 10;  // far from the kept springs, not pinned
   REQUIRE(m.spring_chunk_close_offset.back() > m.spring_chunk_close_offset[m.spring_chunk_offset.size() - 1]);
-  const State after = run_steps(m, b.state, 1, 2);
+  const State after = run_on_threads(m, b.state, 1, 2);
   const Vec3 v0 = b.state.v[free_particle];
   const Vec3 v1 = v0 + m.dt * (m.gravity - m.air_damping * v0);  // symplectic Euler, no spring force
   CHECK(std::memcmp(after.v[free_particle].data(), v1.data(), sizeof(Vec3)) == 0);

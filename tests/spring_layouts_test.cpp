@@ -8,6 +8,7 @@
 
 #include "bench/sheet_scene.h"
 #include "core/spring_chunks.h"
+#include "spring_fixtures.h"
 #include "systems/spring_forces.h"
 
 using namespace clothsim;
@@ -18,15 +19,7 @@ namespace {
 // coincident endpoints (particles 5 and 6 placed on top of each other), so no spring sits at rest.
 BuiltScene perturbed_sheet() {
   BuiltScene b = bench::build_sheet(33, Integrator::symplectic);
-  std::uint64_t r = 12345;
-  auto next = [&r] {
-    r = r * 6364136223846793005ull + 1442695040888963407ull;
-    return double(r >> 11) / double(1ull << 53) - 0.5;
-  };
-  for (Index i = 0; i < b.model.particle_count; ++i) {
-    b.state.x[i] += 0.01 * Vec3(next(), next(), next());
-    b.state.v[i] = Vec3(next(), next(), next());
-  }
+  test::perturb_state(b.state, 12345, 0.01);
   b.state.x[6] = b.state.x[5];
   return b;
 }
