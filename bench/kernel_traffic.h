@@ -38,13 +38,22 @@ inline double bytes_springs(const Model& m, SpringLayout layout) {
 // external forces: read f, v, inv_mass, write f.  symplectic integrate: read x, v, a, write x, v.
 inline double bytes_external(const Model& m) { return m.particle_count * (3 * vec3_bytes + sizeof(Real)); }
 inline double bytes_integrate(const Model& m) { return m.particle_count * 5 * vec3_bytes; }
-// One symplectic step with the model's layout.
+// Fused blocked stage (systems/forces.h): x, v read once, f allocated and written back once, inv_mass read;
+// the springs' a, b, rest. The integrator's update adds only the arrays it alone touches.
+inline bool fused(const Model& m) { return m.spring_layout == SpringLayout::blocked && m.fuse_particle_pass; }
+inline double bytes_forces_fused(const Model& m) {
+  return m.particle_count * (4 * vec3_bytes + sizeof(Real)) + m.spring_count * (2 * index_bytes + sizeof(Real));
+}
+// One symplectic step with the model's layout; fused, the update only writes x', v'.
 inline double bytes_step_symplectic(const Model& m) {
+  if (fused(m)) return bytes_forces_fused(m) + m.particle_count * 2 * vec3_bytes;
   const double springs = bytes_springs(m, m.spring_layout);
   return springs + bytes_external(m) + bytes_integrate(m);
 }
-// RK4: four force stages and four per-particle update passes (each reads/writes about 8 Vec3 per particle).
+// RK4: four force stages and four per-particle update passes (each reads/writes about 8 Vec3 per particle);
+// fused, an update adds x0, v0 read, the two sums read and written, the stage state written back (8 Vec3).
 inline double bytes_step_rk4(const Model& m) {
+  if (fused(m)) return 4 * (bytes_forces_fused(m) + m.particle_count * 8 * vec3_bytes);
   const double springs = bytes_springs(m, m.spring_layout);
   return 4 * (springs + bytes_external(m)) + 4 * m.particle_count * 8 * vec3_bytes;
 }

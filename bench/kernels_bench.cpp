@@ -10,6 +10,7 @@
 
 #include "bench/kernel_traffic.h"
 #include "bench/sheet_scene.h"
+#include "core/spring_chunks.h"
 #include "io/obj_writer.h"
 #include "systems/normals.h"
 #include "systems/spring_forces.h"
@@ -68,11 +69,28 @@ void BM_springs(benchmark::State& st, SpringLayout layout) {
   set_counters(st, m.spring_count, bytes_springs(m, layout));
 }
 
+// How the blocked step is scheduled, to measure each change of issue 7 against the one before in one run.
+enum class Schedule {
+  fused,           // the default: external forces and the update inside the spring pass, automatic chunk size
+  unfused,         // the same chunks, external forces and the update as separate passes
+  unfused_chunk8k, // separate passes and the earlier fixed 8192-spring chunks (3 passes on 1024^2)
+};
+
 // A batch of steps from the saved state; the restore is outside the timing.
-void BM_step(benchmark::State& st, Integrator integ) {
+void BM_step(benchmark::State& st, Integrator integ, Schedule schedule) {
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, st.range(1));
   Fixture& fx = fixture(int(st.range(0)), integ);
-  const Model& m = fx.built.model;
+  Model& m = fx.built.model;
+  // The fixture's model is shared by the cases: set the schedule for this case and put the default back after.
+  struct Restore {
+    Model& m;
+    ~Restore() {
+      m.fuse_particle_pass = true;
+      build_spring_chunks(m);
+    }
+  } restore{m};
+  m.fuse_particle_pass = schedule == Schedule::fused;
+  if (schedule == Schedule::unfused_chunk8k) build_spring_chunks(m, 8192);
   State a = fx.warm, b = fx.warm;
   constexpr int batch = 4;
   for (auto _ : st) {
@@ -129,8 +147,13 @@ void sizes_threads(benchmark::internal::Benchmark* b) {
 BENCHMARK_CAPTURE(BM_springs, gather, SpringLayout::gather)->Apply(sizes_threads);
 BENCHMARK_CAPTURE(BM_springs, two_phase, SpringLayout::two_phase)->Apply(sizes_threads);
 BENCHMARK_CAPTURE(BM_springs, blocked, SpringLayout::blocked)->Apply(sizes_threads);
-BENCHMARK_CAPTURE(BM_step, symplectic, Integrator::symplectic)->Apply(sizes_threads);
-BENCHMARK_CAPTURE(BM_step, rk4, Integrator::rk4)->Apply(sizes_threads);
+BENCHMARK_CAPTURE(BM_step, symplectic, Integrator::symplectic, Schedule::fused)->Apply(sizes_threads);
+BENCHMARK_CAPTURE(BM_step, rk4, Integrator::rk4, Schedule::fused)->Apply(sizes_threads);
+BENCHMARK_CAPTURE(BM_step, symplectic_unfused, Integrator::symplectic, Schedule::unfused)->Apply(sizes_threads);
+BENCHMARK_CAPTURE(BM_step, rk4_unfused, Integrator::rk4, Schedule::unfused)->Apply(sizes_threads);
+BENCHMARK_CAPTURE(BM_step, symplectic_unfused_chunk8k, Integrator::symplectic, Schedule::unfused_chunk8k)
+    ->Apply(sizes_threads);
+BENCHMARK_CAPTURE(BM_step, rk4_unfused_chunk8k, Integrator::rk4, Schedule::unfused_chunk8k)->Apply(sizes_threads);
 BENCHMARK(BM_normals)->Apply(sizes_threads);
 BENCHMARK(BM_obj_frame)->Arg(64)->Arg(256)->Arg(1024)->Unit(benchmark::kMillisecond);
 

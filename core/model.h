@@ -69,6 +69,16 @@ struct Model {
   std::vector<Index> spring_chunk_offset;     // first spring of each chunk (chunk count + 1)
   std::vector<Index> spring_pass_offset;      // first entry of each pass in spring_pass_chunk (pass count + 1)
   std::vector<Index> spring_pass_chunk;       // chunk indices, pass by pass (chunk count)
+  // particles each chunk opens (zeroes f before its springs) and closes (no spring touches them after it), as
+  // [begin, end) pairs; the last slot holds the particles of no chunk (open/close_offset: chunk count + 2)
+  std::vector<Index> spring_chunk_open_offset, spring_chunk_open_range;
+  std::vector<Index> spring_chunk_close_offset, spring_chunk_close_range;
+  // closing particles of its chunk final after each block of spring_block_size springs (a prefix of the chunk's
+  // close ranges; ceil(spring_count / spring_block_size))
+  std::vector<Index> spring_block_close;
+  // blocked layout: external forces and the integrator's per-particle update run in the closing chunk, while
+  // the particle is in cache (systems/forces.h); false runs them as separate passes (same bytes; for tests)
+  bool fuse_particle_pass = true;
 
   // --- triangles
   Index tri_count = 0;

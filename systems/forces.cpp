@@ -1,11 +1,5 @@
 #include "systems/forces.h"
 
-#include <chrono>
-
-#include "systems/external_forces.h"
-#include "systems/normals.h"
-#include "systems/spring_forces.h"
-
 namespace clothsim {
 
 void eval_forces(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, std::int64_t step,

@@ -1,5 +1,6 @@
 #include "systems/integrate_explicit.h"
 
+#include "systems/forces.h"
 #include "systems/parallel.h"
 
 namespace clothsim {
@@ -13,12 +14,12 @@ void integrate_euler(std::span<const Vec3> x, std::span<const Vec3> v, std::span
   });
 }
 
-void integrate_symplectic(std::span<const Vec3> x, std::span<const Vec3> v, std::span<const Vec3> a, Real h,
-                          std::span<Vec3> x_out, std::span<Vec3> v_out) {
-  parallel_over(Index(x.size()), particle_grain, [&](Index i) {
-    const Vec3 vn = v[i] + h * a[i];
-    v_out[i] = vn;
-    x_out[i] = x[i] + h * vn;
+void integrate_symplectic(const Model& m, const State& in, State& out, Workspace& ws, Real h) {
+  const auto& a = ws.f;
+  eval_forces_then(m, in.x, in.v, in.step, ws, [&](Index i) {
+    const Vec3 vn = in.v[i] + h * a[i];
+    out.v[i] = vn;
+    out.x[i] = in.x[i] + h * vn;
   });
 }
 

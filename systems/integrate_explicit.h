@@ -1,7 +1,7 @@
 #pragma once
 #include <span>
 
-#include "core/math.h"
+#include "core/model.h"
 
 namespace clothsim {
 
@@ -9,7 +9,7 @@ namespace clothsim {
 void integrate_euler(std::span<const Vec3> x, std::span<const Vec3> v, std::span<const Vec3> a, Real h,
                      std::span<Vec3> x_out, std::span<Vec3> v_out);
 // Symplectic (semi-implicit) Euler: v' = v + h a, x' = x + h v'. First order; stable for h < 2/omega_max.
-void integrate_symplectic(std::span<const Vec3> x, std::span<const Vec3> v, std::span<const Vec3> a, Real h,
-                          std::span<Vec3> x_out, std::span<Vec3> v_out);
+// Evaluates the forces of `in` itself, so the update can run inside the spring pass (systems/forces.h).
+void integrate_symplectic(const Model& model, const State& in, State& out, Workspace& ws, Real h);
 
 }  // namespace clothsim

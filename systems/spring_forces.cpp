@@ -24,43 +24,58 @@ void eval_springs_gather(const Model& m, std::span<const Vec3> x, std::span<cons
 
 namespace {
 
-// Springs [begin, end) of one block (at most spring_lane_block) into out. The endpoints are gathered into
-// structure-of-arrays lanes first, so the arithmetic (sqrt and division bound, docs/performance.md) runs as one
-// loop the compiler vectorises. It is spring_force_lane, the expression spring_force uses, so the two layouts
-// stay bitwise equal (tests/spring_layouts_test.cpp).
-constexpr Index spring_lane_block = 64;
+// Springs [begin, end) of one block (at most spring_lane_block) into structure-of-arrays lanes. The endpoints
+// are gathered into lanes first, so the arithmetic (sqrt and division bound, docs/performance.md) runs as one
+// loop the compiler vectorises. It is spring_force_lane, the expression spring_force uses, so the layouts stay
+// bitwise equal (tests/spring_layouts_test.cpp). Uniform stiffness and damping stay scalars (broadcast into
+// the vector loop) instead of two lanes filled per spring.
+constexpr Index spring_lane_block = spring_block_size;
 
-void eval_spring_block(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Index begin, Index end,
-                       Vec3* out) {
+template <bool uniform>
+void eval_spring_lanes(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Index begin, Index end,
+                       SpringLanes& out) {
   alignas(64) Real dx[spring_lane_block], dy[spring_lane_block], dz[spring_lane_block];
   alignas(64) Real dvx[spring_lane_block], dvy[spring_lane_block], dvz[spring_lane_block];
   alignas(64) Real rest[spring_lane_block], ke[spring_lane_block], kd[spring_lane_block];
-  alignas(64) Real fx[spring_lane_block], fy[spring_lane_block], fz[spring_lane_block];
   const Index n = end - begin;
   for (Index k = 0; k < n; ++k) {
     const Index s = begin + k, a = m.spring_a[s], b = m.spring_b[s];
     dx[k] = x[b][0] - x[a][0]; dy[k] = x[b][1] - x[a][1]; dz[k] = x[b][2] - x[a][2];
     dvx[k] = v[b][0] - v[a][0]; dvy[k] = v[b][1] - v[a][1]; dvz[k] = v[b][2] - v[a][2];
-    rest[k] = m.spring_rest[s]; ke[k] = m.spring_ke[s]; kd[k] = m.spring_kd[s];
+    rest[k] = m.spring_rest[s];
+    if constexpr (!uniform) {
+      ke[k] = m.spring_ke[s];
+      kd[k] = m.spring_kd[s];
+    }
   }
+  const Real ke0 = m.spring_ke[0], kd0 = m.spring_kd[0];
   for (Index k = 0; k < n; ++k) {
-    const SpringLane f = spring_force_lane(dx[k], dy[k], dz[k], dvx[k], dvy[k], dvz[k], rest[k], ke[k], kd[k]);
-    fx[k] = f.fx;
-    fy[k] = f.fy;
-    fz[k] = f.fz;
+    const SpringLane f = spring_force_lane(dx[k], dy[k], dz[k], dvx[k], dvy[k], dvz[k], rest[k],
+                                           uniform ? ke0 : ke[k], uniform ? kd0 : kd[k]);
+    out.fx[k] = f.fx;
+    out.fy[k] = f.fy;
+    out.fz[k] = f.fz;
   }
-  for (Index k = 0; k < n; ++k) out[k] = Vec3(fx[k], fy[k], fz[k]);
 }
 
 }  // namespace
+
+void eval_spring_block(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Index begin, Index end,
+                       SpringLanes& out) {
+  if (m.spring_ke.uniform() && m.spring_kd.uniform()) eval_spring_lanes<true>(m, x, v, begin, end, out);
+  else eval_spring_lanes<false>(m, x, v, begin, end, out);
+}
 
 void eval_springs_two_phase(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f,
                             std::span<Vec3> spring_force_out) {
   const Index blocks = (m.spring_count + spring_lane_block - 1) / spring_lane_block;
   parallel_over(blocks, 4 * particle_grain / spring_lane_block, [&](Index blk) {
     const Index begin = blk * spring_lane_block;
-    eval_spring_block(m, x, v, begin, std::min(begin + spring_lane_block, m.spring_count),
-                      spring_force_out.data() + begin);
+    const Index end = std::min(begin + spring_lane_block, m.spring_count);
+    SpringLanes lanes;
+    eval_spring_block(m, x, v, begin, end, lanes);
+    for (Index s = begin; s < end; ++s)
+      spring_force_out[s] = Vec3(lanes.fx[s - begin], lanes.fy[s - begin], lanes.fz[s - begin]);
   });
   gather_spring_forces(m, spring_force_out, f);
 }
@@ -78,25 +93,7 @@ void gather_spring_forces(const Model& m, std::span<const Vec3> spring_force, st
 }
 
 void eval_springs_blocked(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f) {
-  parallel_over(m.particle_count, particle_grain, [&](Index i) { f[i] = Vec3::Zero(); });
-  const Index passes = Index(m.spring_pass_offset.size()) - 1;
-  for (Index p = 0; p < passes; ++p) {
-    const Index first = m.spring_pass_offset[p];
-    // One chunk per task: chunks of a pass touch disjoint particles, and a chunk adds in spring order.
-    parallel_over(m.spring_pass_offset[p + 1] - first, 1, [&](Index k) {
-      const Index chunk = m.spring_pass_chunk[first + k];
-      const Index end = m.spring_chunk_offset[chunk + 1];
-      Vec3 lane[spring_lane_block];
-      for (Index begin = m.spring_chunk_offset[chunk]; begin < end; begin += spring_lane_block) {
-        const Index stop = std::min(begin + spring_lane_block, end);
-        eval_spring_block(m, x, v, begin, stop, lane);
-        for (Index s = begin; s < stop; ++s) {
-          f[m.spring_a[s]] += lane[s - begin];
-          f[m.spring_b[s]] -= lane[s - begin];
-        }
-      }
-    });
-  }
+  eval_springs_blocked_then(m, x, v, f, [](Index) {});
 }
 
 void eval_springs(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f,

@@ -1,9 +1,12 @@
 #pragma once
 // Hooke springs with damping along the spring (Provot 1995 eq. 2-3; Baraff & Witkin 1998 §4).
+#include <algorithm>
 #include <cmath>
 #include <span>
 
 #include "core/model.h"
+#include "core/spring_chunks.h"
+#include "systems/parallel.h"
 
 namespace clothsim {
 
@@ -41,9 +44,87 @@ void eval_springs_two_phase(const Model& model, std::span<const Vec3> x, std::sp
 // The second phase of two_phase: f[i] = sum of the per-spring forces on particle i, in CSR order.
 void gather_spring_forces(const Model& model, std::span<const Vec3> spring_force, std::span<Vec3> f);
 
-// Blocked layout: f zeroed, then each pass of model.spring_pass_chunk scatters its chunks in parallel. Sums in
-// (pass, spring) order, not the CSR's: equal to gather up to rounding, and the same bytes at any thread count.
+// Blocked layout: each pass of model.spring_pass_chunk scatters its chunks in parallel; a chunk zeroes f of the
+// particles it opens before its springs (core/spring_chunks.h). Sums in (pass, spring) order, not the CSR's:
+// equal to gather up to rounding, and the same bytes at any thread count.
 void eval_springs_blocked(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f);
+
+// The forces on spring_a of springs [begin, end) (at most spring_block_size), as structure-of-arrays lanes.
+struct SpringLanes {
+  alignas(64) Real fx[spring_block_size];
+  alignas(64) Real fy[spring_block_size];
+  alignas(64) Real fz[spring_block_size];
+};
+void eval_spring_block(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, Index begin,
+                       Index end, SpringLanes& out);
+
+// One chunk of the blocked layout: zeroes f of the particles it opens, adds its springs in order, and after
+// each block calls close(i) for the particles it closes that no later spring of the chunk touches.
+template <class Close>
+void scatter_spring_chunk(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f,
+                          Index chunk, Close&& close) {
+  for (Index r = m.spring_chunk_open_offset[chunk]; r < m.spring_chunk_open_offset[chunk + 1]; ++r)
+    std::fill(f.begin() + m.spring_chunk_open_range[2 * r], f.begin() + m.spring_chunk_open_range[2 * r + 1],
+              Vec3::Zero());
+  // Cursor over the chunk's close ranges.
+  Index r = m.spring_chunk_close_offset[chunk];
+  const Index r_end = m.spring_chunk_close_offset[chunk + 1];
+  Index i = r < r_end ? m.spring_chunk_close_range[2 * r] : 0, closed = 0;
+  // Grid and mesh orders give a spring's first end to several springs in a row: its force is held in registers
+  // until the first end changes (the same additions in the same order as f[a] += f_s, without a store-to-load
+  // round trip per spring).
+  const Index begin = m.spring_chunk_offset[chunk], end = m.spring_chunk_offset[chunk + 1];
+  Index held = m.spring_a[begin];
+  Vec3 sum = f[held];
+  SpringLanes lanes;
+  for (Index block = begin; block < end; block += spring_block_size) {
+    const Index stop = std::min(block + spring_block_size, end);
+    eval_spring_block(m, x, v, block, stop, lanes);
+    for (Index s = block; s < stop; ++s) {
+      const Vec3 fs(lanes.fx[s - block], lanes.fy[s - block], lanes.fz[s - block]);
+      const Index a = m.spring_a[s], b = m.spring_b[s];
+      if (a != held) {
+        f[held] = sum;
+        held = a;
+        sum = f[a];
+      }
+      sum += fs;
+      if (b == held) sum -= fs;
+      else f[b] -= fs;
+    }
+    f[held] = sum;
+    for (const Index ready = m.spring_block_close[block / spring_block_size]; closed < ready; ++closed) {
+      close(i);
+      if (++i == m.spring_chunk_close_range[2 * r + 1] && ++r < r_end) i = m.spring_chunk_close_range[2 * r];
+    }
+    sum = f[held];  // close() may have replaced a closed particle's force (nothing adds to it any more)
+  }
+}
+
+// eval_springs_blocked, then close(i) once per particle as soon as f[i] is final: inside the chunk that closes
+// particle i, right after the block of its last spring, while its data is in cache. close(i) may overwrite x[i]
+// and v[i] (no spring reads them after) and must not touch another particle. The bytes of f are those of
+// eval_springs_blocked.
+template <class Close>
+void eval_springs_blocked_then(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v,
+                               std::span<Vec3> f, Close&& close) {
+  const Index passes = Index(m.spring_pass_offset.size()) - 1;
+  for (Index p = 0; p < passes; ++p) {
+    const Index first = m.spring_pass_offset[p];
+    // One chunk per task: chunks of a pass touch disjoint particles, and a chunk adds in spring order.
+    parallel_over(m.spring_pass_offset[p + 1] - first, 1,
+                  [&](Index k) { scatter_spring_chunk(m, x, v, f, m.spring_pass_chunk[first + k], close); });
+  }
+  // Particles no chunk spans (no springs, or outside every span): no spring force.
+  const Index rest = Index(m.spring_chunk_offset.size()) - 1;
+  for (Index r = m.spring_chunk_close_offset[rest]; r < m.spring_chunk_close_offset[rest + 1]; ++r) {
+    const Index begin = m.spring_chunk_close_range[2 * r];
+    parallel_over(m.spring_chunk_close_range[2 * r + 1] - begin, particle_grain, [&](Index k) {
+      f[begin + k] = Vec3::Zero();
+      close(begin + k);
+    });
+  }
+}
 
 // Largest strain (|d| - rest)/rest over all springs: a maximum, so exact at any thread count.
 Real max_spring_strain(const Model& model, std::span<const Vec3> x);

@@ -21,8 +21,7 @@ void step(const Model& model, const State& in, State& out, Workspace& ws, Real h
       integrate_euler(in.x, in.v, ws.f, h, out.x, out.v);
       break;
     case Integrator::symplectic:
-      eval_forces(model, in.x, in.v, in.step, ws);
-      integrate_symplectic(in.x, in.v, ws.f, h, out.x, out.v);
+      integrate_symplectic(model, in, out, ws, h);
       break;
     case Integrator::rk4:
       integrate_rk4(model, in, out, ws, h);

@@ -65,4 +65,18 @@ inline void run_steps(const Model& m, State& s, Workspace& ws, Real h, int steps
   }
 }
 
+// Moves every particle by up to scale/2 per axis and gives it a velocity in [-0.5, 0.5)^3, from a fixed
+// pseudo-random sequence (a 64-bit LCG), so no spring sits at rest and every run sees the same state.
+inline void perturb_state(State& s, std::uint64_t seed, Real scale) {
+  std::uint64_t r = seed;
+  auto next = [&r] {
+    r = r * 6364136223846793005ull + 1442695040888963407ull;
+    return double(r >> 11) / double(1ull << 53) - 0.5;
+  };
+  for (std::size_t i = 0; i < s.x.size(); ++i) {
+    s.x[i] += scale * Vec3(next(), next(), next());
+    s.v[i] = Vec3(next(), next(), next());
+  }
+}
+
 }  // namespace clothsim::test

@@ -8,6 +8,7 @@
 
 #include "bench/sheet_scene.h"
 #include "core/spring_chunks.h"
+#include "spring_fixtures.h"
 #include "systems/spring_forces.h"
 
 using namespace clothsim;
@@ -18,15 +19,7 @@ namespace {
 // coincident endpoints (particles 5 and 6 placed on top of each other), so no spring sits at rest.
 BuiltScene perturbed_sheet() {
   BuiltScene b = bench::build_sheet(33, Integrator::symplectic);
-  std::uint64_t r = 12345;
-  auto next = [&r] {
-    r = r * 6364136223846793005ull + 1442695040888963407ull;
-    return double(r >> 11) / double(1ull << 53) - 0.5;
-  };
-  for (Index i = 0; i < b.model.particle_count; ++i) {
-    b.state.x[i] += 0.01 * Vec3(next(), next(), next());
-    b.state.v[i] = Vec3(next(), next(), next());
-  }
+  test::perturb_state(b.state, 12345, 0.01);
   b.state.x[6] = b.state.x[5];
   return b;
 }
@@ -123,6 +116,39 @@ TEST_CASE("blocked layout: same bytes at 1, 2 and 3 threads, equal to gather up 
   for (Index i = 0; i < m.particle_count; ++i)
     worst = std::max(worst, (blocked[0][i] - gather[i]).norm() / std::max(1.0, gather[i].norm()));
   CHECK(worst < 1e-12);  // a handful of springs, each rounded once: only the order of the sum differs
+}
+
+TEST_CASE("blocked layout: bitwise the plain sequential sum in (pass, chunk, spring) order") {
+  // The kernel holds a run of springs' common first end in registers and zeroes f chunk by chunk; neither may
+  // change a bit against f[a] += f_s, f[b] -= f_s done one spring at a time in the documented order.
+  BuiltScene b = perturbed_sheet();
+  Model& m = b.model;
+  for (Index chunk_size : {Index(256), Index(0)}) {
+    CAPTURE(chunk_size);
+    REQUIRE(build_spring_chunks(m, chunk_size));
+    if (chunk_size == 0) {  // per-spring stiffness and damping (a map), the kernel's other lane path
+      std::vector<Real> ke(m.spring_count), kd(m.spring_count);
+      for (Index s = 0; s < m.spring_count; ++s) {
+        ke[s] = 500 + s % 7;
+        kd[s] = 0.1 + 0.01 * (s % 5);
+      }
+      m.spring_ke = ParamField::from_values(ke);
+      m.spring_kd = ParamField::from_values(kd);
+      REQUIRE_FALSE(m.spring_ke.uniform());
+    }
+    std::vector<Vec3> reference(m.particle_count, Vec3::Zero()), blocked(m.particle_count);
+    for (Index c : m.spring_pass_chunk)
+      for (Index s = m.spring_chunk_offset[c]; s < m.spring_chunk_offset[c + 1]; ++s) {
+        const Index a = m.spring_a[s], e = m.spring_b[s];
+        const Vec3 fs = spring_force(b.state.x[a], b.state.x[e], b.state.v[a], b.state.v[e], m.spring_rest[s],
+                                     m.spring_ke[s], m.spring_kd[s]);
+        reference[a] += fs;
+        reference[e] -= fs;
+      }
+    tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+    eval_springs_blocked(m, b.state.x, b.state.v, blocked);
+    CHECK(same_bytes(reference, blocked));
+  }
 }
 
 TEST_CASE("blocked layout is refused when the spring order has no locality") {
