@@ -93,6 +93,12 @@ int line_in_message(const std::string& msg) {
   return std::regex_search(msg, m, re) ? std::stoi(m[1]) : 0;
 }
 
+// The file's text as a read-only stream buffer, without a copy.
+class TextView : public std::streambuf {
+ public:
+  explicit TextView(std::string& text) { setg(text.data(), text.data(), text.data() + text.size()); }
+};
+
 std::string first_line(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) s.pop_back();
   const auto nl = s.find('\n');
@@ -102,25 +108,34 @@ std::string first_line(std::string s) {
 }  // namespace
 
 MeshData read_obj(const std::string& path, MeshCheck check) {
-  const std::string text = read_text_file(path, "an OBJ mesh");
+  std::string text = read_text_file(path, "an OBJ mesh");
   std::vector<int> face_lines;
   check_numbers(path, text, face_lines);
 
-  tinyobj::ObjReaderConfig config;
-  config.triangulate = false;  // we split polygons ourselves, to count them and keep face lines
-  config.vertex_color = false;
-  tinyobj::ObjReader reader;
-  const bool ok = reader.ParseFromString(text, "", config);
-  if (!ok) {
-    const std::string err = first_line(reader.Error());
-    throw Error(path, line_in_message(err), "malformed OBJ: " + err);
+  // tinyobjloader reads the text in place (ObjReader::ParseFromString would copy it into a stringbuf first);
+  // polygons are not triangulated there: we split them ourselves, to count them and keep face lines.
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> materials;
+  std::string warn, err;
+  {
+    TextView obj_buf(text);
+    std::istream obj_in(&obj_buf);
+    std::stringbuf mtl_buf;
+    std::istream mtl_in(&mtl_buf);
+    tinyobj::MaterialStreamReader no_materials(mtl_in);
+    const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &obj_in, &no_materials,
+                                     /*triangulate=*/false, /*default_vcols_fallback=*/false);
+    if (!ok) {
+      err = first_line(err);
+      throw Error(path, line_in_message(err), "malformed OBJ: " + err);
+    }
   }
-  const std::string& warn = reader.Warning();
+  std::string().swap(text);  // parsed: free it before the mesh is assembled
   if (warn.find("out of bounds") != std::string::npos)
     throw Error(path, line_in_message(warn),
                 "face index out of range (" + first_line(warn) + "); expected indices of existing v/vt lines");
 
-  const tinyobj::attrib_t& attrib = reader.GetAttrib();
   MeshData mesh;
   mesh.source = path;
   const std::size_t nv = attrib.vertices.size() / 3;
@@ -133,8 +148,14 @@ MeshData read_obj(const std::string& path, MeshCheck check) {
 
   bool all_uv = nuv > 0;
   std::vector<int> tri_face_line;  // line of the face each triangle came from
+  std::size_t triangles = 0;       // reserved up front: growing by doubling would hold the arrays twice
+  for (const tinyobj::shape_t& shape : shapes)
+    for (const unsigned char corners : shape.mesh.num_face_vertices) triangles += corners > 2 ? corners - 2 : 0;
+  mesh.tri_index.reserve(3 * triangles);
+  mesh.tri_uv.reserve(3 * triangles);
+  tri_face_line.reserve(triangles);
   std::size_t face = 0;
-  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+  for (const tinyobj::shape_t& shape : shapes) {
     std::size_t offset = 0;
     for (const unsigned char corners : shape.mesh.num_face_vertices) {
       const tinyobj::index_t* idx = &shape.mesh.indices[offset];

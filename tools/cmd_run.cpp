@@ -123,6 +123,8 @@ int cmd_run(int argc, char** argv) {
   stats.threads = threads;
   stats.load_seconds = loaded.load_seconds;
   stats.topology_seconds = loaded.topology_seconds;
+  stats.load_cpu_seconds = loaded.load_cpu_seconds;
+  stats.topology_cpu_seconds = loaded.topology_cpu_seconds;
   Progress progress(frames.last - frames.first + 1, args.has("--quiet"));
   int status = exit_ok;
 
