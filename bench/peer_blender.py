@@ -4,7 +4,7 @@ in one run, on one machine.
 
   blender -b --factory-startup --python-exit-code 1 --python bench/peer_blender.py -- CLOTHSIM_BIN SCRATCH_DIR \
       [--side 128] [--seconds 1] [--fps 24] [--quality 5] [--tension 15] [--integrator implicit] \
-      [--timestep 0.0041667] [--threads 2]
+      [--stiffness N_PER_M] [--timestep 0.0041667] [--threads 2]
 
 bench/peer_blender.sh wraps it and exits 77 (skipped) where blender is not installed. Prints one row per peer:
 the step, simulated seconds per wall second and per CPU second, particle-steps per second, the largest strain of
@@ -36,6 +36,8 @@ ap.add_argument("--seconds", type=float, default=1.0, help="simulated time")
 ap.add_argument("--fps", type=int, default=24)
 ap.add_argument("--quality", type=int, default=5, help="Blender's quality steps (substeps per frame)")
 ap.add_argument("--tension", type=float, default=15.0, help="Blender tension/shear stiffness (its default 15)")
+ap.add_argument("--stiffness", type=float, default=0.0,
+                help="clothsim stiffness, N/m per spring (default: Blender's tension * (side - 1))")
 ap.add_argument("--integrator", default="implicit", help="clothsim integrator")
 ap.add_argument("--timestep", type=float, default=1.0 / 240, help="clothsim step, s")
 ap.add_argument("--threads", type=int, default=2, help="threads for both")
@@ -113,7 +115,8 @@ def run_blender():
 
 
 def run_clothsim():
-    stiffness = args.tension * (side - 1)  # Blender's k = tension / rest length, rest = 1 m / (side - 1)
+    # Blender's k = tension / rest length, rest = 1 m / (side - 1), unless given.
+    stiffness = args.stiffness if args.stiffness > 0 else args.tension * (side - 1)
     out = os.path.join(args.scratch, "clothsim_out")
     xml = os.path.join(args.scratch, "peer_sheet.xml")
     stats = os.path.join(args.scratch, "peer_stats.json")
