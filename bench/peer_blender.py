@@ -4,7 +4,7 @@ in one run, on one machine.
 
   blender -b --factory-startup --python-exit-code 1 --python bench/peer_blender.py -- CLOTHSIM_BIN SCRATCH_DIR \
       [--side 128] [--seconds 1] [--fps 24] [--quality 5] [--tension 15] [--integrator implicit] \
-      [--stiffness N_PER_M] [--timestep 0.0041667] [--threads 2]
+      [--stiffness N_PER_M] [--timestep 0.0041667] [--cg-tolerance 1e-3] [--threads 2]
 
 bench/peer_blender.sh wraps it and exits 77 (skipped) where blender is not installed. Prints one row per peer:
 the step, simulated seconds per wall second and per CPU second, particle-steps per second, the largest strain of
@@ -40,6 +40,7 @@ ap.add_argument("--stiffness", type=float, default=0.0,
                 help="clothsim stiffness, N/m per spring (default: Blender's tension * (side - 1))")
 ap.add_argument("--integrator", default="implicit", help="clothsim integrator")
 ap.add_argument("--timestep", type=float, default=1.0 / 240, help="clothsim step, s")
+ap.add_argument("--cg-tolerance", type=float, default=1e-3, help="clothsim implicit: relative CG residual")
 ap.add_argument("--threads", type=int, default=2, help="threads for both")
 args = ap.parse_args(argv)
 
@@ -126,7 +127,7 @@ def run_clothsim():
 <!-- bench/peer_blender.py: the peer sheet, {side} x {side}, 1 m, 1 kg, two corners pinned -->
 <scene>
   <simulation timestep="{1.0 / (fps * steps_per_frame)!r}" fps="{fps}" startFrame="1" endFrame="{1 + frames}"
-              integrator="{args.integrator}" gravity="0 -9.81 0"/>
+              integrator="{args.integrator}" cgTolerance="{args.cg_tolerance!r}" gravity="0 -9.81 0"/>
   <forces><airDamping value="0.1"/></forces>
   <cloth name="sheet" grid="{side} {side}" size="1 1" translate="0 1 0" saveDir="{out}" saveName="sheet">
     <density value="1"/>

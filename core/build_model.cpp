@@ -92,6 +92,9 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
   m.tri_index.reserve(total_tris);
   std::vector<Real> mass, area;
   std::vector<char> pinned_flag;
+  mass.reserve(total_vertices);
+  area.reserve(total_vertices);
+  pinned_flag.reserve(total_vertices);
   ParamFieldBuilder ke, kd, thickness, max_strain;
 
   for (std::size_t c = 0; c < scene.cloths.size(); ++c) {
@@ -120,7 +123,7 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
     }
 
     for (const Vec3& p : mesh.positions) positions.push_back(apply_transform(cd.transform, p));
-    mass.resize(positions.size(), 0.0);  // no reserve: a few resizes of small arrays per cloth
+    mass.resize(positions.size(), 0.0);
     area.resize(positions.size(), 0.0);
     pinned_flag.resize(positions.size(), 0);
     const VertexParams& vp = mesh.params;
