@@ -11,9 +11,9 @@ the step, simulated seconds per wall second and per CPU second, particle-steps p
 the structural edges over the frames, and the ratio of each rate to clothsim's. docs/performance.md ("Peers side
 by side") explains the model differences.
 
-Matched model: Blender's spring constant is tension / (average spring length) (its implicit solver,
-BPH_mass_spring_force_spring_linear), so clothsim gets stiffness = tension * (side - 1) N/m per spring, the same
-1 kg spread over side^2 vertices, and gravity 9.81 m/s^2. Blender's bending (angular) and damping models differ
+Matched model: assuming Blender's spring constant is tension / (average spring length), clothsim gets stiffness =
+tension * (side - 1) N/m per spring unless --stiffness is given, the same 1 kg spread over side^2 vertices, and
+gravity 9.81 m/s^2. Blender's bending (angular) and damping models differ
 from clothsim's springs; both are left at values that keep each sheet stable.
 """
 import argparse

@@ -5,7 +5,7 @@
 // clothsim's rate over the peer's (cs_vs_peer: above 1 where clothsim simulates faster). docs/performance.md explains the model differences.
 //
 // Usage: clothsim_peer_bullet [seconds=1] [clothsim_dt=5e-5] [stiffness=3000] [bullet_dt=1/240] [iterations=4]
-//                             [integrator=symplectic|implicit|rk4] [threads=2]
+//                             [integrator=symplectic|implicit|rk4] [threads=2] [cg_tolerance=1e-6]
 #include <BulletSoftBody/btSoftBodyHelpers.h>
 #include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
 #include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
@@ -43,8 +43,9 @@ struct PeerResult {
   bool finite = true;
 };
 
-PeerResult run_clothsim(double seconds, double dt, double stiffness, Integrator integrator) {
+PeerResult run_clothsim(double seconds, double dt, double stiffness, Integrator integrator, double cg_tolerance) {
   SceneDesc desc = bench::sheet_scene(side, integrator, dt);
+  desc.simulation.cg_tolerance = cg_tolerance;
   desc.cloths[0].stiffness = stiffness;
   BuiltScene b = build_model(desc, {make_cloth_grid(desc.cloths[0])});
   const Model& m = b.model;
@@ -127,6 +128,7 @@ int main(int argc, char** argv) {
   const int iterations = argc > 5 ? std::atoi(argv[5]) : 4;
   const char* integrator_name = argc > 6 ? argv[6] : "symplectic";
   const int threads = argc > 7 ? std::atoi(argv[7]) : 2;
+  const double cg_tolerance = argc > 8 ? std::atof(argv[8]) : 1e-6;
   Integrator integrator = Integrator::symplectic;
   if (std::strcmp(integrator_name, "implicit") == 0) integrator = Integrator::implicit;
   else if (std::strcmp(integrator_name, "rk4") == 0) integrator = Integrator::rk4;
@@ -138,7 +140,7 @@ int main(int argc, char** argv) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
   std::printf("128 x 128 sheet, 1 m, 1 kg, two corners pinned, %.3g s simulated, clothsim %s at %d threads, "
               "Bullet %d iterations\n", seconds, integrator_name, threads, iterations);
-  const PeerResult cs = run_clothsim(seconds, cs_dt, stiffness, integrator);
+  const PeerResult cs = run_clothsim(seconds, cs_dt, stiffness, integrator, cg_tolerance);
   const PeerResult bt = run_bullet(seconds, bt_dt, iterations);
   std::printf("%-20s %10s %7s %9s %9s %12s %11s %14s %11s %15s %14s\n", "peer", "dt_s", "steps", "wall_s", "cpu_s",
               "sim_s/wall_s", "sim_s/cpu_s", "particle_st/s", "max_strain", "cs_vs_peer_wall", "cs_vs_peer_cpu");
