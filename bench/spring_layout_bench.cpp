@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/build_model.h"
+#include "core/csr.h"
 #include "systems/spring_forces.h"
 
 namespace {
@@ -19,6 +20,7 @@ BuiltScene deformed_grid(int n) {
   c.grid_nx = c.grid_ny = n;
   s.cloths.push_back(c);
   BuiltScene b = build_model(s, {make_cloth_grid(c)});
+  build_particle_springs(b.model);  // the grid's default (blocked) layout goes without it
   for (std::size_t i = 0; i < b.state.x.size(); ++i) b.state.x[i].y() += 1e-3 * std::sin(0.1 * double(i));
   return b;
 }

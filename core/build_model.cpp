@@ -59,6 +59,10 @@ MeshData make_cloth_grid(const ClothDesc& cloth) {
 }
 
 BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& meshes) {
+  return build_model(scene, std::vector<MeshData>(meshes));
+}
+
+BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
   BuiltScene out;
   Model& m = out.model;
   const SimulationDesc& sim = scene.simulation;
@@ -77,16 +81,25 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
   m.cg_max_iterations = sim.cg_max_iterations;
   m.newton_iterations = sim.newton_iterations;
 
+  // Arrays are reserved to their final size: growing by doubling would briefly hold twice a large array.
+  std::size_t total_vertices = 0, total_tris = 0;
+  for (const MeshData& mesh : meshes) {
+    total_vertices += mesh.positions.size();
+    total_tris += mesh.tri_index.size();
+  }
   std::vector<Vec3> positions;
+  positions.reserve(total_vertices);
+  m.tri_index.reserve(total_tris);
   std::vector<Real> mass, area;
-  std::vector<Real> ke, kd;
   std::vector<char> pinned_flag;
-  std::vector<Real> thickness;
-  std::vector<Real> max_strain;
+  mass.reserve(total_vertices);
+  area.reserve(total_vertices);
+  pinned_flag.reserve(total_vertices);
+  ParamFieldBuilder ke, kd, thickness, max_strain;
 
   for (std::size_t c = 0; c < scene.cloths.size(); ++c) {
     const ClothDesc& cd = scene.cloths[c];
-    const MeshData& mesh = meshes[c];
+    MeshData& mesh = meshes[c];
     const Index base = m.particle_count;
     ClothInfo info;
     info.name = cd.name;
@@ -101,20 +114,24 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
     info.particle_end = base + mesh.vertex_count();
     info.tri_begin = m.tri_count;
     info.tri_end = m.tri_count + mesh.triangle_count();
-    info.uvs = mesh.uvs;
-    info.tri_uv = mesh.tri_uv;
+    info.uvs = std::move(mesh.uvs);
+    info.tri_uv = std::move(mesh.tri_uv);
+    // UV indices equal to the vertex indices (grids, and OBJs whose vt follow their v) are not stored twice.
+    if (!info.tri_uv.empty() && info.tri_uv == mesh.tri_index) {
+      info.uv_per_vertex = true;
+      std::vector<Index>().swap(info.tri_uv);
+    }
 
     for (const Vec3& p : mesh.positions) positions.push_back(apply_transform(cd.transform, p));
     mass.resize(positions.size(), 0.0);
     area.resize(positions.size(), 0.0);
     pinned_flag.resize(positions.size(), 0);
-    thickness.resize(positions.size(), cd.thickness);
     const VertexParams& vp = mesh.params;
     const ParamField density = vertex_field(scene, cd, mesh, vp.density, cd.density, "density map");
     const ParamField stiffness = vertex_field(scene, cd, mesh, vp.stiffness, cd.stiffness, "stiffness map");
     const ParamField damping = vertex_field(scene, cd, mesh, vp.damping, cd.damping, "damping map");
     const ParamField vertex_thickness = vertex_field(scene, cd, mesh, vp.thickness, cd.thickness, "thickness map");
-    for (Index i = 0; i < mesh.vertex_count(); ++i) thickness[base + i] = vertex_thickness[i];
+    for (Index i = 0; i < mesh.vertex_count(); ++i) thickness.push(vertex_thickness[i]);
     // With a thickness map the cloth's one figure is its largest thickness (a safe bound for collision queries).
     info.thickness = vertex_thickness[0];
     for (Index i = 0; i < mesh.vertex_count(); ++i) info.thickness = std::max(info.thickness, vertex_thickness[i]);
@@ -154,6 +171,10 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
 
     SpringList springs = cloth_springs(cd, mesh, info.pieces);
     info.spring_begin = m.spring_count;
+    const std::size_t spring_total = std::size_t(m.spring_count) + springs.size();
+    m.spring_a.reserve(spring_total);
+    m.spring_b.reserve(spring_total);
+    m.spring_rest.reserve(spring_total);
     for (Index s = 0; s < springs.size(); ++s) {
       const Index a = base + springs.a[s], b = base + springs.b[s];
       const Real rest = (positions[b] - positions[a]).norm();
@@ -165,22 +186,24 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
       m.spring_b.push_back(b);
       m.spring_rest.push_back(rest);
       // A spring takes the mean of its ends' values; for a uniform value 0.5 * (k + k) is k exactly.
-      ke.push_back(0.5 * (stiffness[springs.a[s]] + stiffness[springs.b[s]]) * kind_scale(cd, springs.kind[s]));
-      kd.push_back(0.5 * (damping[springs.a[s]] + damping[springs.b[s]]));
-      max_strain.push_back(cd.max_strain > 0 ? cd.max_strain : std::numeric_limits<Real>::infinity());
+      ke.push(0.5 * (stiffness[springs.a[s]] + stiffness[springs.b[s]]) * kind_scale(cd, springs.kind[s]));
+      kd.push(0.5 * (damping[springs.a[s]] + damping[springs.b[s]]));
+      max_strain.push(cd.max_strain > 0 ? cd.max_strain : std::numeric_limits<Real>::infinity());
       m.strain_limited = m.strain_limited || cd.max_strain > 0;
       ++m.spring_kind_total[int(springs.kind[s])];
     }
     m.spring_count += springs.size();
+    springs = SpringList();
+    mesh = MeshData();  // this cloth's mesh is built: free it before the next one
     info.spring_end = m.spring_count;
-    m.particle_count += mesh.vertex_count();
+    m.particle_count = info.particle_end;
     m.cloths.push_back(std::move(info));
   }
 
-  m.spring_ke = ParamField::from_values(std::move(ke));
-  m.spring_kd = ParamField::from_values(std::move(kd));
-  m.particle_thickness = ParamField::from_values(std::move(thickness));
-  if (m.strain_limited) m.spring_max_strain = ParamField::from_values(std::move(max_strain));
+  m.spring_ke = ke.finish();
+  m.spring_kd = kd.finish();
+  m.particle_thickness = thickness.finish();
+  if (m.strain_limited) m.spring_max_strain = max_strain.finish();
 
   // Vertices no triangle touches carry no mass: they stay where they are, like pins.
   m.particle_inv_mass.resize(m.particle_count);
@@ -191,15 +214,11 @@ BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& mesh
   }
   if (m.needs_normals()) m.particle_area = std::move(area);
 
-  build_particle_springs(m);
-  {
-    std::vector<Index> owner(m.tri_index.begin(), m.tri_index.end()), entry(m.tri_index.size());
-    for (std::size_t k = 0; k < entry.size(); ++k) entry[k] = Index(k / 3);
-    build_csr(m.particle_count, owner, entry, m.particle_tri_offset, m.particle_tri_index);
-  }
-
+  build_particle_tris(m);
   // Each spring computed once and no per-spring buffer, where the spring order allows it (docs/performance.md).
   if (build_spring_chunks(m)) m.spring_layout = SpringLayout::blocked;
+  // The spring CSR only when a kernel of this model reads it (the blocked layout alone does not).
+  if (needs_particle_springs(m)) build_particle_springs(m);
 
   out.state = make_state(m, std::move(positions));
   return out;

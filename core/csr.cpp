@@ -5,26 +5,51 @@
 #include "core/model.h"
 
 namespace clothsim {
+namespace {
 
-void build_csr(Index n, const std::vector<Index>& owner, const std::vector<Index>& entry,
-               std::vector<Index>& offset, std::vector<Index>& index) {
+// Counting sort over an implicit list of (owner, entry) pairs that `visit(emit)` produces, twice: once to
+// count, once to fill. Entries of one owner keep the visit order.
+template <class Visit>
+void counting_csr(Index n, std::size_t entries, Visit visit, std::vector<Index>& offset, std::vector<Index>& index) {
   offset.assign(std::size_t(n) + 1, 0);
-  for (Index p : owner) ++offset[p + 1];
+  visit([&](Index owner, Index) { ++offset[owner + 1]; });
   std::partial_sum(offset.begin(), offset.end(), offset.begin());
-  index.resize(owner.size());
-  std::vector<Index> fill(offset.begin(), offset.end() - 1);
-  for (std::size_t k = 0; k < owner.size(); ++k) index[fill[owner[k]]++] = entry[k];
+  index.resize(entries);
+  // The fill cursor of each owner is offset[owner], advanced in place, then shifted back by one owner.
+  visit([&](Index owner, Index entry) { index[offset[owner]++] = entry; });
+  for (Index p = n; p > 0; --p) offset[p] = offset[p - 1];
+  offset[0] = 0;
 }
 
-void build_particle_springs(Model& m) {
-  std::vector<Index> owner, entry;
-  owner.reserve(2 * std::size_t(m.spring_count));
-  entry.reserve(2 * std::size_t(m.spring_count));
-  for (Index s = 0; s < m.spring_count; ++s) {
-    owner.push_back(m.spring_a[s]); entry.push_back(s);
-    owner.push_back(m.spring_b[s]); entry.push_back(~s);
-  }
-  build_csr(m.particle_count, owner, entry, m.particle_spring_offset, m.particle_spring_index);
+}  // namespace
+
+void build_particle_springs(const Model& m, std::vector<Index>& offset, std::vector<Index>& index) {
+  counting_csr(m.particle_count, 2 * std::size_t(m.spring_count),
+               [&](auto emit) {
+                 for (Index s = 0; s < m.spring_count; ++s) {
+                   emit(m.spring_a[s], s);
+                   emit(m.spring_b[s], ~s);
+                 }
+               },
+               offset, index);
+}
+
+void build_particle_springs(Model& m) { build_particle_springs(m, m.particle_spring_offset, m.particle_spring_index); }
+
+bool needs_particle_springs(const Model& m) {
+  return m.spring_layout != SpringLayout::blocked || m.integrator == Integrator::implicit || m.strain_limited;
+}
+
+void ensure_particle_springs(Model& m) {
+  if (needs_particle_springs(m) && m.particle_spring_offset.empty()) build_particle_springs(m);
+}
+
+void build_particle_tris(Model& m) {
+  counting_csr(m.particle_count, m.tri_index.size(),
+               [&](auto emit) {
+                 for (std::size_t k = 0; k < m.tri_index.size(); ++k) emit(m.tri_index[k], Index(k / 3));
+               },
+               m.particle_tri_offset, m.particle_tri_index);
 }
 
 }  // namespace clothsim

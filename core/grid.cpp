@@ -1,5 +1,7 @@
 #include "core/grid.h"
 
+#include <algorithm>
+
 namespace clothsim {
 
 MeshData make_grid_mesh(int nx, int ny, Real width, Real height) {
@@ -13,7 +15,8 @@ MeshData make_grid_mesh(int nx, int ny, Real width, Real height) {
       mesh.uvs.push_back(Vec2(u, v));
     }
   }
-  // Corners ordered so the normals point along +Y.
+  // Corners ordered so the normals point along +Y. Reserved: growing by doubling would hold a large array twice.
+  mesh.tri_index.reserve(6 * std::size_t(nx - 1) * (ny - 1));
   for (int j = 0; j + 1 < ny; ++j) {
     for (int i = 0; i + 1 < nx; ++i) {
       const Index a = j * nx + i, b = a + 1, c = a + nx, d = c + 1;
@@ -26,6 +29,12 @@ MeshData make_grid_mesh(int nx, int ny, Real width, Real height) {
 
 SpringList make_grid_springs(int nx, int ny) {
   SpringList s;
+  const std::size_t X = nx, Y = ny;  // structural, shear, flex
+  const std::size_t count = (X - 1) * Y + X * (Y - 1) + 2 * (X - 1) * (Y - 1) + std::size_t(std::max(nx - 2, 0)) * Y +
+                            X * std::size_t(std::max(ny - 2, 0));
+  s.a.reserve(count);
+  s.b.reserve(count);
+  s.kind.reserve(count);
   auto id = [nx](int i, int j) { return Index(j * nx + i); };
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {

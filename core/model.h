@@ -36,6 +36,7 @@ struct ClothInfo {
   Index spring_begin = 0, spring_end = 0;
   std::vector<Vec2> uvs;     // texture coordinates (uv_count)
   std::vector<Index> tri_uv; // uv index per corner, local to this cloth (3 * triangles), empty without UVs
+  bool uv_per_vertex = false; // UV index = local vertex index (grids; OBJs whose vt follow v): tri_uv stays empty
   Index pieces = 0;          // connected components
   Real friction = 0, restitution = 0, thickness = 0;
   bool self_collision = false;
@@ -60,9 +61,10 @@ struct Model {
   // largest allowed strain (|d| - rest)/rest, +inf where unlimited; only read when strain_limited
   ParamField spring_max_strain;         // (spring_count, stride 0 when uniform)
   bool strain_limited = false;          // some cloth sets maxStrain: the strain-limit stage runs
-  // incident springs of each particle: entry = spring index, ~index (negative) when the particle is spring_b
-  std::vector<Index> particle_spring_offset;  // (particle_count + 1)
-  std::vector<Index> particle_spring_index;   // (2 * spring_count)
+  // incident springs of each particle: entry = spring index, ~index (negative) when the particle is spring_b;
+  // built only when a kernel reads it (core/csr.h needs_particle_springs: not for the blocked layout alone)
+  std::vector<Index> particle_spring_offset;  // (particle_count + 1, or 0)
+  std::vector<Index> particle_spring_index;   // (2 * spring_count, or 0)
   SpringLayout spring_layout = SpringLayout::gather;  // default chosen by bench/spring_layout_bench.cpp
   // blocked layout (core/spring_chunks.h): chunks of consecutive springs, grouped into passes whose chunks touch
   // disjoint particle ranges, so one pass scatters into f in parallel without races (empty for other layouts)

@@ -12,13 +12,29 @@
 namespace clothsim::io {
 
 void write_file_atomic(const std::string& path, std::string_view content) {
+  write_file_atomic(path, [&](const PieceWriter& write) { write(content); });
+}
+
+void write_file_atomic(const std::string& path, const std::function<void(const PieceWriter&)>& produce) {
   const std::string tmp = path + ".tmp" + std::to_string(::getpid());
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) throw Error(path, std::string("cannot create file (") + std::strerror(errno) + "); expected a writable folder");
-  const bool wrote = std::fwrite(content.data(), 1, content.size(), f) == content.size();
-  int saved = errno;
+  bool wrote = true;
+  int saved = 0;
+  try {
+    produce([&](std::string_view piece) {
+      if (wrote && std::fwrite(piece.data(), 1, piece.size(), f) != piece.size()) {
+        wrote = false;  // later pieces are dropped; the failure is reported once produce is done
+        saved = errno;
+      }
+    });
+  } catch (...) {
+    std::fclose(f);
+    std::remove(tmp.c_str());
+    throw;
+  }
   const bool flushed = std::fflush(f) == 0;
-  if (!flushed) saved = errno;
+  if (!flushed && wrote) saved = errno;
   const bool closed = std::fclose(f) == 0;
   if (!closed && wrote && flushed) saved = errno;
   if (!wrote || !flushed || !closed) {

@@ -43,9 +43,10 @@ void check_face_size(const std::string& path, int line_no, std::string_view line
 // are checked here first (std::from_chars: fast, locale-free), and the line of every face is remembered for
 // the messages that need it.
 // Sizes are checked here too, before tinyobjloader allocates anything for them (core/limits.h).
-void check_numbers(const std::string& path, const std::string& text, std::vector<int>& face_lines) {
+void check_numbers(const std::string& path, const std::string& text, std::vector<int>& face_lines,
+                   std::int64_t& vertices, std::int64_t& triangles) {
   int line_no = 0;
-  std::int64_t vertices = 0, triangles = 0;
+  vertices = triangles = 0;
   std::size_t pos = 0;
   while (pos < text.size()) {
     std::size_t end = text.find('\n', pos);
@@ -93,6 +94,45 @@ int line_in_message(const std::string& msg) {
   return std::regex_search(msg, m, re) ? std::stoi(m[1]) : 0;
 }
 
+// What tinyobjloader's callbacks fill: the mesh, fanned triangles with the line of their face. Indices are
+// resolved as OBJ defines them (1-based; negative counts back from the last v/vt line read so far) and
+// range-checked once the whole file is read, as a face may name vertices defined after it.
+struct ObjSink {
+  const std::string& path;
+  const std::vector<int>& face_lines;
+  MeshData mesh;
+  std::vector<int> tri_face_line;
+  std::size_t face_count;
+  bool all_uv;
+
+  static Index resolve(int written, std::size_t count) {
+    if (written > 0) return Index(written - 1);
+    if (written < 0) return Index(std::int64_t(count) + written);
+    return -1;  // 0: no such index
+  }
+  void face(const tinyobj::index_t* idx, int corners) {
+    const int line = face_count < face_lines.size() ? face_lines[face_count] : 0;
+    ++face_count;
+    if (corners < 3) throw Error(path, line, "face with " + std::to_string(corners) + " corners; expected 3 or more");
+    if (corners > 3) ++mesh.polygons_triangulated;
+    for (int k = 1; k + 1 < corners; ++k) {
+      for (const tinyobj::index_t& c : {idx[0], idx[k], idx[k + 1]}) {
+        mesh.tri_index.push_back(resolve(c.vertex_index, mesh.positions.size()));
+        const Index uv = resolve(c.texcoord_index, mesh.uvs.size());
+        all_uv = all_uv && c.texcoord_index != 0;
+        mesh.tri_uv.push_back(uv);
+      }
+      tri_face_line.push_back(line);
+    }
+  }
+};
+
+// The file's text as a read-only stream buffer, without a copy.
+class TextView : public std::streambuf {
+ public:
+  explicit TextView(std::string& text) { setg(text.data(), text.data(), text.data() + text.size()); }
+};
+
 std::string first_line(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) s.pop_back();
   const auto nl = s.find('\n');
@@ -102,59 +142,52 @@ std::string first_line(std::string s) {
 }  // namespace
 
 MeshData read_obj(const std::string& path, MeshCheck check) {
-  const std::string text = read_text_file(path, "an OBJ mesh");
+  std::string text = read_text_file(path, "an OBJ mesh");
   std::vector<int> face_lines;
-  check_numbers(path, text, face_lines);
+  std::int64_t vertices = 0, triangles = 0;  // counted first, so the mesh's arrays are reserved to size
+  check_numbers(path, text, face_lines, vertices, triangles);
 
-  tinyobj::ObjReaderConfig config;
-  config.triangulate = false;  // we split polygons ourselves, to count them and keep face lines
-  config.vertex_color = false;
-  tinyobj::ObjReader reader;
-  const bool ok = reader.ParseFromString(text, "", config);
-  if (!ok) {
-    const std::string err = first_line(reader.Error());
-    throw Error(path, line_in_message(err), "malformed OBJ: " + err);
-  }
-  const std::string& warn = reader.Warning();
-  if (warn.find("out of bounds") != std::string::npos)
-    throw Error(path, line_in_message(warn),
-                "face index out of range (" + first_line(warn) + "); expected indices of existing v/vt lines");
-
-  const tinyobj::attrib_t& attrib = reader.GetAttrib();
-  MeshData mesh;
-  mesh.source = path;
-  const std::size_t nv = attrib.vertices.size() / 3;
-  mesh.positions.resize(nv);
-  for (std::size_t i = 0; i < nv; ++i)
-    mesh.positions[i] = Vec3(attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]);
-  const std::size_t nuv = attrib.texcoords.size() / 2;
-  mesh.uvs.resize(nuv);
-  for (std::size_t i = 0; i < nuv; ++i) mesh.uvs[i] = Vec2(attrib.texcoords[2 * i], attrib.texcoords[2 * i + 1]);
-
-  bool all_uv = nuv > 0;
-  std::vector<int> tri_face_line;  // line of the face each triangle came from
-  std::size_t face = 0;
-  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
-    std::size_t offset = 0;
-    for (const unsigned char corners : shape.mesh.num_face_vertices) {
-      const tinyobj::index_t* idx = &shape.mesh.indices[offset];
-      const int line = face < face_lines.size() ? face_lines[face] : 0;
-      if (corners < 3) throw Error(path, line, "face with " + std::to_string(corners) + " corners; expected 3 or more");
-      if (corners > 3) ++mesh.polygons_triangulated;
-      for (unsigned k = 1; k + 1 < corners; ++k) {
-        for (const tinyobj::index_t& c : {idx[0], idx[k], idx[k + 1]}) {
-          if (c.vertex_index < 0 || std::size_t(c.vertex_index) >= nv)
-            throw Error(path, line, "vertex index out of range; expected 1.." + std::to_string(nv));
-          mesh.tri_index.push_back(c.vertex_index);
-          if (c.texcoord_index < 0) all_uv = false;
-          mesh.tri_uv.push_back(c.texcoord_index);
-        }
-        tri_face_line.push_back(line);
-      }
-      offset += corners;
-      ++face;
+  // tinyobjloader's callback reader tokenises the text in place (ObjReader::ParseFromString would copy it into a
+  // stringbuf, and build a vector per face and a shape copy of every index): positions, UVs and faces go
+  // straight into the mesh. Polygons are split into fans here, to count them and keep each face's line.
+  ObjSink sink{path, face_lines, {}, {}, 0, true};
+  sink.mesh.source = path;
+  sink.mesh.positions.reserve(vertices);
+  sink.mesh.tri_index.reserve(3 * std::size_t(triangles));
+  sink.mesh.tri_uv.reserve(3 * std::size_t(triangles));
+  sink.tri_face_line.reserve(std::size_t(triangles));
+  {
+    TextView obj_buf(text);
+    std::istream obj_in(&obj_buf);
+    tinyobj::callback_t cb;
+    cb.vertex_cb = [](void* u, tinyobj::real_t x, tinyobj::real_t y, tinyobj::real_t z, tinyobj::real_t) {
+      static_cast<ObjSink*>(u)->mesh.positions.push_back(Vec3(x, y, z));
+    };
+    cb.texcoord_cb = [](void* u, tinyobj::real_t x, tinyobj::real_t y, tinyobj::real_t) {
+      static_cast<ObjSink*>(u)->mesh.uvs.push_back(Vec2(x, y));
+    };
+    cb.index_cb = [](void* u, tinyobj::index_t* idx, int corners) { static_cast<ObjSink*>(u)->face(idx, corners); };
+    std::string warn, err;
+    if (!tinyobj::LoadObjWithCallback(obj_in, cb, &sink, nullptr, &warn, &err)) {
+      err = first_line(err);
+      throw Error(path, line_in_message(err), "malformed OBJ: " + err);
     }
   }
+  std::string().swap(text);  // parsed: free it before the mesh is checked
+  MeshData& mesh = sink.mesh;
+  const std::size_t nv = mesh.positions.size(), nuv = mesh.uvs.size();
+  for (std::size_t k = 0; k < mesh.tri_index.size(); ++k) {
+    if (mesh.tri_index[k] < 0 || std::size_t(mesh.tri_index[k]) >= nv)
+      throw Error(path, sink.tri_face_line[k / 3],
+                  "vertex index out of range; expected 1.." + std::to_string(nv) +
+                      " (or negative, counting back from the last v line), indices of existing v lines");
+    if (sink.all_uv && (mesh.tri_uv[k] < 0 || std::size_t(mesh.tri_uv[k]) >= nuv))
+      throw Error(path, sink.tri_face_line[k / 3],
+                  "texture coordinate index out of range; expected 1.." + std::to_string(nuv) +
+                      " (or negative, counting back from the last vt line), indices of existing vt lines");
+  }
+  const bool all_uv = sink.all_uv && nuv > 0;
+  const std::vector<int>& tri_face_line = sink.tri_face_line;
   if (mesh.tri_index.empty()) throw Error(path, "no faces; expected 'f' lines of a triangulated surface mesh");
   if (!all_uv) {
     mesh.uvs.clear();
@@ -178,7 +211,7 @@ MeshData read_obj(const std::string& path, MeshCheck check) {
         throw Error(path, tri_face_line[t], "zero-area triangle (collinear corners); expected a proper triangle");
     }
   }
-  return mesh;
+  return std::move(mesh);
 }
 
 }  // namespace clothsim::io

@@ -31,6 +31,10 @@ std::string format_stats(const Model& m, const RunStats& s) {
       .field("write", s.write_seconds);
   if (m.collision.enabled) j.field("collide", s.collide_seconds);
   j.end_object();
+  j.key("phases_cpu").begin_object()
+      .field("load", s.load_cpu_seconds)
+      .field("topology", s.topology_cpu_seconds)
+      .end_object();
   j.field("peak_rss_bytes", s.peak_rss_bytes);
   j.key("frames").begin_array();
   for (const FrameStats& f : s.frames) {

@@ -27,6 +27,7 @@ struct RunStats {
   double wall_seconds = 0;
   double load_seconds = 0, topology_seconds = 0, forces_seconds = 0, integrate_seconds = 0, write_seconds = 0;
   double collide_seconds = 0;
+  double load_cpu_seconds = 0, topology_cpu_seconds = 0;  // process CPU time (all threads) of those phases
   long long force_evaluations = 0;
   long long cg_iterations = 0;            // implicit: over the whole run
   long long strain_limit_iterations = 0;  // strain-limit Jacobi sweeps over the whole run

@@ -20,6 +20,14 @@ std::string read_text_file(const std::string& path, const std::string& what) {
   if (!ec && size > limits::max_input_file_bytes)
     throw Error(path, "file of " + std::to_string(size) + " bytes; expected at most " +
                           std::to_string(limits::max_input_file_bytes) + " (docs/errors.md)");
+  // A regular file is read straight into a string of its size: a stream copy would grow by doubling and hold a
+  // large mesh's text up to three times over.
+  if (!ec) {
+    std::string text(size, '\0');
+    in.read(text.data(), std::streamsize(size));
+    if (in.bad() || std::size_t(in.gcount()) != size) throw Error(path, "read failed; expected " + what);
+    return text;
+  }
   std::ostringstream ss;
   ss << in.rdbuf();
   if (in.bad()) throw Error(path, "read failed; expected " + what);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/csr.h"
 #include "systems/parallel.h"
 #include "systems/random_force.h"
 #include "systems/reduce.h"
@@ -16,6 +17,11 @@ Real estimate_omega_max(const Model& m, std::span<const Vec3> x_rest, int max_it
   std::vector<Vec3> w(n), y(n), dir(m.spring_count);
   std::vector<Real> inv_sqrt_m(n);
   for (Index i = 0; i < n; ++i) inv_sqrt_m[i] = std::sqrt(m.particle_inv_mass[i]);
+  // The spring CSR: the model's, or a local one where the model goes without it (the blocked layout).
+  std::vector<Index> own_offset, own_index;
+  if (m.particle_spring_offset.empty()) build_particle_springs(m, own_offset, own_index);
+  const std::vector<Index>& offset = own_offset.empty() ? m.particle_spring_offset : own_offset;
+  const std::vector<Index>& index = own_offset.empty() ? m.particle_spring_index : own_index;
   parallel_over(m.spring_count, 4 * particle_grain, [&](Index s) {
     const Vec3 d = x_rest[m.spring_b[s]] - x_rest[m.spring_a[s]];
     const Real len = d.norm();
@@ -29,8 +35,8 @@ Real estimate_omega_max(const Model& m, std::span<const Vec3> x_rest, int max_it
     parallel_over(n, particle_grain, [&](Index i) {
       Vec3 sum = Vec3::Zero();
       if (inv_sqrt_m[i] > 0)
-        for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
-          const Index e = m.particle_spring_index[k];
+        for (Index k = offset[i]; k < offset[i + 1]; ++k) {
+          const Index e = index[k];
           const Index s = e >= 0 ? e : ~e;
           const Index j = e >= 0 ? m.spring_b[s] : m.spring_a[s];
           const Vec3 du = inv_sqrt_m[i] * w[i] - inv_sqrt_m[j] * w[j];

@@ -72,7 +72,7 @@ TEST_CASE("run writes one whole OBJ per frame with v, vt, vn and f lines that re
   const std::string stats = read_text(dir / "stats.json");
   for (const char* key : {"\"particles\":400", "\"triangles\":722", "\"springs\":{", "\"structural\":760",
                           "\"shear\":722", "\"flex\":720", "\"steps\":400", "\"wall_seconds\"", "\"phases\":{",
-                          "\"load\"", "\"topology\"", "\"forces\"", "\"integrate\"", "\"write\"",
+                          "\"load\"", "\"topology\"", "\"forces\"", "\"integrate\"", "\"write\"", "\"phases_cpu\":{",
                           "\"peak_rss_bytes\"", "\"frames\":[", "\"max_strain\"", "\"kinetic_energy\""})
     CHECK_MESSAGE(stats.find(key) != std::string::npos, key);
 }

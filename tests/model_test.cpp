@@ -1,6 +1,7 @@
 // Model building: uniform parameters stay scalars, CSR adjacency, spring layouts agree bit for bit.
 #include <doctest/doctest.h>
 
+#include "core/csr.h"
 #include "core/error.h"
 #include "scene_fixtures.h"
 #include "systems/spring_forces.h"
@@ -24,7 +25,9 @@ TEST_CASE("a uniform parameter stays one scalar; a varying one becomes an array"
 }
 
 TEST_CASE("every spring appears twice in the incident-spring CSR, once from each end") {
-  const BuiltScene b = test::build(test::grid_scene(5, 4, 1.0, Integrator::symplectic));
+  BuiltScene b = test::build(test::grid_scene(5, 4, 1.0, Integrator::symplectic));
+  CHECK(b.model.particle_spring_offset.empty());  // the blocked layout alone does not read it
+  build_particle_springs(b.model);
   const Model& m = b.model;
   CHECK(m.particle_spring_offset.back() == 2 * m.spring_count);
   std::vector<int> seen(m.spring_count, 0);
@@ -40,6 +43,7 @@ TEST_CASE("every spring appears twice in the incident-spring CSR, once from each
 
 TEST_CASE("gather and two-phase spring layouts give the same bits") {
   BuiltScene b = test::build(test::grid_scene(9, 7, 1.0, Integrator::symplectic));
+  build_particle_springs(b.model);
   for (std::size_t i = 0; i < b.state.x.size(); ++i) {  // a deterministic, irregular deformation
     b.state.x[i] += 0.01 * Vec3(std::sin(3.0 * i), std::cos(5.0 * i), std::sin(7.0 * i));
     b.state.v[i] = Vec3(std::cos(2.0 * i), 0.5, std::sin(i));

@@ -12,6 +12,8 @@ struct LoadedScene {
   BuiltScene built;
   double load_seconds = 0;      // reading the scene and the meshes
   double topology_seconds = 0;  // edges, bend springs, CSR, masses
+  // The same phases in CPU time of the whole process (all threads): what a loaded machine cannot inflate.
+  double load_cpu_seconds = 0, topology_cpu_seconds = 0;
 };
 
 LoadedScene load_scene(const std::string& path);

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/csr.h"
 #include "io/atomic_file.h"
 #include "systems/diagnostics.h"
 #include "systems/step.h"
@@ -56,6 +57,7 @@ TimedRun timed_run(const Model& base, const State& initial, Integrator integrato
                    int repeats, double repeat_below) {
   Model model = base;
   model.integrator = integrator;
+  ensure_particle_springs(model);
   Workspace ws = make_workspace(model);
   TimedRun best;
   for (int r = 0; r < repeats; ++r) {

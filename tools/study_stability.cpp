@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/csr.h"
 #include "core/spring_system.h"
 #include "io/atomic_file.h"
 #include "systems/diagnostics.h"
@@ -93,6 +94,7 @@ Real energy(const Model& m, const State& s) { return kinetic_energy(m, s.v) + sp
 bool stays_bounded(const Chain& c, Integrator integrator, Real h) {
   Model model = c.model;
   model.integrator = integrator;
+  ensure_particle_springs(model);
   Workspace ws = make_workspace(model);
   State state = c.start, scratch = c.start;
   const Real e0 = energy(model, state);

@@ -1,0 +1,165 @@
+"""Peer side by side (issue 7 section 6): the same sheet (1 m square, 1 kg, hanging from the two corners of one
+edge, starting flat) for the same simulated time in Blender's cloth modifier, baked headless, and in clothsim,
+in one run, on one machine.
+
+  blender -b --factory-startup --python-exit-code 1 --python bench/peer_blender.py -- CLOTHSIM_BIN SCRATCH_DIR \
+      [--side 128] [--seconds 1] [--fps 24] [--quality 5] [--tension 15] [--integrator implicit] \
+      [--stiffness N_PER_M] [--timestep 0.0041667] [--cg-tolerance 1e-3] [--threads 2]
+
+bench/peer_blender.sh wraps it and exits 77 (skipped) where blender is not installed. Prints one row per peer:
+the step, simulated seconds per wall second and per CPU second, particle-steps per second, the largest strain of
+the structural edges over the frames, and the ratio of each rate to clothsim's. docs/performance.md ("Peers side
+by side") explains the model differences.
+
+Matched model: assuming Blender's spring constant is tension / (average spring length), clothsim gets stiffness =
+tension * (side - 1) N/m per spring unless --stiffness is given, the same 1 kg spread over side^2 vertices, and
+gravity 9.81 m/s^2. Blender's bending (angular) and damping models differ
+from clothsim's springs; both are left at values that keep each sheet stable.
+"""
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import time
+
+import bpy
+import numpy as np
+
+argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+ap = argparse.ArgumentParser(prog="peer_blender.py")
+ap.add_argument("clothsim", help="path to the clothsim binary")
+ap.add_argument("scratch", help="folder for the bake, the clothsim scene and its frames")
+ap.add_argument("--side", type=int, default=128, help="vertices along each side")
+ap.add_argument("--seconds", type=float, default=1.0, help="simulated time")
+ap.add_argument("--fps", type=int, default=24)
+ap.add_argument("--quality", type=int, default=5, help="Blender's quality steps (substeps per frame)")
+ap.add_argument("--tension", type=float, default=15.0, help="Blender tension/shear stiffness (its default 15)")
+ap.add_argument("--stiffness", type=float, default=0.0,
+                help="clothsim stiffness, N/m per spring (default: Blender's tension * (side - 1))")
+ap.add_argument("--integrator", default="implicit", help="clothsim integrator")
+ap.add_argument("--timestep", type=float, default=1.0 / 240, help="clothsim step, s")
+ap.add_argument("--cg-tolerance", type=float, default=1e-3, help="clothsim implicit: relative CG residual")
+ap.add_argument("--threads", type=int, default=2, help="threads for both")
+args = ap.parse_args(argv)
+
+side, fps = args.side, args.fps
+frames = round(args.seconds * fps)
+seconds = frames / fps
+particles = side * side
+os.makedirs(args.scratch, exist_ok=True)
+
+
+def structural_strain(co, edges, rest):
+    """Largest (length - rest) / rest over the grid's edges (its structural springs)."""
+    d = co[edges[:, 1]] - co[edges[:, 0]]
+    return float(np.max((np.linalg.norm(d, axis=1) - rest) / rest))
+
+
+def run_blender():
+    scene = bpy.context.scene
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    scene.render.threads_mode = "FIXED"
+    scene.render.threads = args.threads
+    scene.render.fps = fps
+    scene.frame_start, scene.frame_end = 1, 1 + frames
+    scene.gravity = (0, 0, -9.81)
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=side - 1, y_subdivisions=side - 1, size=1.0,
+                                    location=(0, 0, 1))
+    obj = bpy.context.object
+    mesh = obj.data
+    assert len(mesh.vertices) == particles, f"grid has {len(mesh.vertices)} vertices; expected {particles}"
+    co = np.empty(3 * particles)
+    mesh.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3)
+    # The two corners of the edge at the largest y, as clothsim's pins 0 and side - 1 are the corners of one edge.
+    top = np.isclose(co[:, 1], co[:, 1].max())
+    corners = [int(i) for i in np.flatnonzero(top & (np.isclose(co[:, 0], co[:, 0].min()) |
+                                                     np.isclose(co[:, 0], co[:, 0].max())))]
+    assert len(corners) == 2
+    group = obj.vertex_groups.new(name="pins")
+    group.add(corners, 1.0, "REPLACE")
+    edges = np.empty(2 * len(mesh.edges), dtype=np.int64)
+    mesh.edges.foreach_get("vertices", edges)
+    edges = edges.reshape(-1, 2)
+    rest = np.linalg.norm(co[edges[:, 1]] - co[edges[:, 0]], axis=1)
+
+    mod = obj.modifiers.new("Cloth", "CLOTH")
+    s = mod.settings
+    s.quality = args.quality
+    s.mass = 1.0 / particles  # kg per vertex
+    s.tension_stiffness = s.compression_stiffness = s.shear_stiffness = args.tension
+    s.vertex_group_mass = "pins"
+    mod.collision_settings.use_collision = False
+    mod.collision_settings.use_self_collision = False
+    mod.point_cache.frame_start, mod.point_cache.frame_end = 1, 1 + frames
+
+    scene.frame_set(1)
+    cpu0, wall0 = time.process_time(), time.perf_counter()
+    bpy.ops.ptcache.bake_all(bake=True)
+    wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+
+    worst = 0.0
+    finite = True
+    buf = np.empty(3 * particles)
+    for f in range(2, 2 + frames):
+        scene.frame_set(f)
+        ev = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+        ev.data.vertices.foreach_get("co", buf)
+        pos = buf.reshape(-1, 3)
+        finite = finite and bool(np.all(np.isfinite(pos)))
+        worst = max(worst, structural_strain(pos, edges, rest))
+    return dict(peer="blender", step=1.0 / (fps * args.quality), steps=frames * args.quality, wall=wall, cpu=cpu,
+                max_strain=worst, finite=finite)
+
+
+def run_clothsim():
+    # Blender's k = tension / rest length, rest = 1 m / (side - 1), unless given.
+    stiffness = args.stiffness if args.stiffness > 0 else args.tension * (side - 1)
+    out = os.path.join(args.scratch, "clothsim_out")
+    xml = os.path.join(args.scratch, "peer_sheet.xml")
+    stats = os.path.join(args.scratch, "peer_stats.json")
+    steps_per_frame = max(1, round(1.0 / (fps * args.timestep)))
+    with open(xml, "w") as f:
+        f.write(f"""<?xml version="1.0"?>
+<!-- bench/peer_blender.py: the peer sheet, {side} x {side}, 1 m, 1 kg, two corners pinned -->
+<scene>
+  <simulation timestep="{1.0 / (fps * steps_per_frame)!r}" fps="{fps}" startFrame="1" endFrame="{1 + frames}"
+              integrator="{args.integrator}" cgTolerance="{args.cg_tolerance!r}" gravity="0 -9.81 0"/>
+  <forces><airDamping value="0.1"/></forces>
+  <cloth name="sheet" grid="{side} {side}" size="1 1" translate="0 1 0" saveDir="{out}" saveName="sheet">
+    <density value="1"/>
+    <stiffness value="{stiffness!r}" bend="0.1"/>
+    <damping value="0.1"/>
+    <pins vertices="0 {side - 1}"/>
+  </cloth>
+</scene>
+""")
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    wall0 = time.perf_counter()
+    subprocess.run([args.clothsim, "run", xml, "--threads", str(args.threads), "--stats", stats, "--quiet"],
+                   check=True)
+    wall = time.perf_counter() - wall0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    with open(stats) as f:
+        st = json.load(f)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    # The whole process, loading and writing frames included, as Blender's bake includes its set-up.
+    return dict(peer=f"clothsim {st['integrator']}", step=st["dt"], steps=st["steps"], wall=wall, cpu=cpu,
+                max_strain=max(fr["max_strain"] for fr in st["frames"]), finite=st["status"] == "ok",
+                stiffness=stiffness)
+
+
+cs = run_clothsim()
+bl = run_blender()
+print(f"{side} x {side} sheet, 1 m, 1 kg, two corners pinned, {seconds:g} s simulated, {args.threads} threads; "
+      f"Blender quality {args.quality}, tension {args.tension:g} (clothsim stiffness {cs['stiffness']:g} N/m)")
+print(f"{'peer':<18} {'step_s':>10} {'steps':>6} {'wall_s':>8} {'cpu_s':>8} {'sim_s/wall_s':>12} "
+      f"{'sim_s/cpu_s':>11} {'particle_st/s':>13} {'max_strain':>10} {'cs_vs_peer_wall':>15} {'cs_vs_peer_cpu':>14}")
+for r in (cs, bl):
+    print(f"{r['peer']:<18} {r['step']:>10.4g} {r['steps']:>6d} {r['wall']:>8.3f} {r['cpu']:>8.3f} "
+          f"{seconds / r['wall']:>12.4f} {seconds / r['cpu']:>11.4f} {particles * r['steps'] / r['wall']:>13.4g} "
+          f"{r['max_strain']:>10.4f} {r['wall'] / cs['wall']:>15.2f} {r['cpu'] / cs['cpu']:>14.2f}"
+          f"{'' if r['finite'] else '  (diverged)'}")

@@ -1,0 +1,35 @@
+#include "core/memory_bytes.h"
+
+namespace clothsim {
+namespace {
+
+template <class T>
+std::size_t bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+template <class... V>
+std::size_t sum_bytes(const V&... v) {
+  return (bytes(v) + ...);
+}
+
+}  // namespace
+
+std::size_t model_bytes(const Model& m) {
+  std::size_t total = sum_bytes(m.particle_inv_mass, m.particle_area, m.pinned, m.spring_a, m.spring_b,
+                                m.spring_rest, m.particle_spring_offset, m.particle_spring_index,
+                                m.spring_chunk_offset, m.spring_pass_offset, m.spring_pass_chunk, m.tri_index,
+                                m.particle_tri_offset, m.particle_tri_index);
+  total += m.particle_thickness.bytes() + m.spring_ke.bytes() + m.spring_kd.bytes() + m.spring_max_strain.bytes();
+  for (const ClothInfo& c : m.cloths) total += sum_bytes(c.uvs, c.tri_uv);
+  return total;
+}
+
+std::size_t state_bytes(const State& s) { return sum_bytes(s.x, s.v); }
+
+std::size_t workspace_bytes(const Workspace& ws) {
+  return sum_bytes(ws.f, ws.spring_force, ws.stage_x, ws.stage_v, ws.normal, ws.dv, ws.cg_x, ws.cg_r, ws.cg_p,
+                   ws.cg_q, ws.cg_precond, ws.spring_block, ws.solve_log, ws.strain_correction);
+}
+
+}  // namespace clothsim

@@ -1,0 +1,15 @@
+#pragma once
+// Bytes held by the arrays a run keeps for its whole length (issue 7: at most 400 bytes a particle on a 1024^2
+// sheet). Capacities, not sizes: what is allocated. The collision model and its scratch are left out (empty
+// without colliders and self-collision).
+#include <cstddef>
+
+#include "core/model.h"
+
+namespace clothsim {
+
+std::size_t model_bytes(const Model& model);          // particle, spring, triangle and cloth (UV) arrays
+std::size_t state_bytes(const State& state);          // positions and velocities
+std::size_t workspace_bytes(const Workspace& ws);     // forces, normals, RK4 and implicit scratch, strain limit
+
+}  // namespace clothsim

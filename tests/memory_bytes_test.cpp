@@ -1,0 +1,76 @@
+// What a run holds for its whole length, counted from the arrays' sizes against a hand count of a grid sheet's
+// elements (issue 7: at most 400 bytes a particle on the 1024^2 sheet, springs and triangles included). The RSS
+// a run reports (--stats peak_rss_bytes) is this plus the program image and the build's transient peak; this
+// test guards the part that scales with the mesh, without timing or measuring the process.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "core/csr.h"
+#include "core/memory_bytes.h"
+#include "core/spring_chunks.h"
+#include "scene_fixtures.h"
+
+using namespace clothsim;
+
+namespace {
+
+struct GridCounts {
+  double particles, springs, triangles;
+};
+
+// An n x n grid: Provot's structural, shear and flex springs; two triangles a cell.
+GridCounts grid_counts(double n) {
+  return {n * n, 2 * n * (n - 1) + 2 * (n - 1) * (n - 1) + 2 * n * (n - 2), 2 * (n - 1) * (n - 1)};
+}
+
+// Hand count of a symplectic grid model with uniform parameters, blocked layout, one chunk and one pass:
+// inverse mass (8 a particle), spring a, b (4 each) and rest (8), triangle corners (3 x 4) and the triangle CSR
+// (offset 4 a particle + 1, 3 x 4 a triangle), UVs (16 a particle, their indices equal the vertex indices and are
+// not stored), four uniform fields of one scalar each (ke, kd, max strain, thickness), the chunk schedule.
+double model_hand_count(const GridCounts& g, double chunk_entries) {
+  return 8 * g.particles + 16 * g.springs + 12 * g.triangles + 4 * (g.particles + 1) + 12 * g.triangles +
+         16 * g.particles + 4 * 8 + 4 * chunk_entries;
+}
+
+}  // namespace
+
+TEST_CASE("a grid model holds its hand-counted bytes: no spring CSR, no per-spring parameters, no UV indices") {
+  const BuiltScene b = test::build(test::grid_scene(16, 16, 1.0, Integrator::symplectic));
+  const Model& m = b.model;
+  const GridCounts g = grid_counts(16);
+  REQUIRE(m.spring_count == Index(g.springs));
+  REQUIRE(m.tri_count == Index(g.triangles));
+  REQUIRE(m.spring_layout == SpringLayout::blocked);
+  CHECK(m.particle_spring_offset.empty());
+  CHECK(m.spring_ke.uniform());
+  CHECK(m.cloths[0].uv_per_vertex);
+  CHECK(m.cloths[0].tri_uv.capacity() == 0);
+  // One chunk (1378 springs < spring_chunk_size) in one pass: chunk offsets {0, S}, pass offsets {0, 1}, one entry.
+  CHECK(model_bytes(m) == std::size_t(model_hand_count(g, 2 + 2 + 1)));
+  CHECK(state_bytes(b.state) == std::size_t(48 * g.particles));
+  CHECK(workspace_bytes(make_workspace(m)) == std::size_t(48 * g.particles));  // f and normals
+}
+
+TEST_CASE("a varying parameter costs its per-spring array, and kernels that read the spring CSR get it") {
+  SceneDesc s = test::grid_scene(16, 16, 1.0, Integrator::implicit);
+  s.cloths[0].bend_scale = 0.5;  // flex springs differ from the others: ke per spring
+  const BuiltScene b = test::build(s);
+  const GridCounts g = grid_counts(16);
+  CHECK_FALSE(b.model.spring_ke.uniform());
+  CHECK(b.model.particle_spring_offset.size() == std::size_t(g.particles + 1));  // implicit reads it
+  CHECK(model_bytes(b.model) == std::size_t(model_hand_count(g, 5) + 8 * g.springs - 8 +
+                                            4 * (g.particles + 1) + 8 * g.springs));
+}
+
+TEST_CASE("the 1024^2 sheet's run holds under 400 bytes a particle by the same count") {
+  // What `clothsim run` keeps (tools/cmd_run.cpp): the model, the state, a scratch state, the start positions
+  // for the divergence guard, and the workspace. The formula is the one checked against the built model above;
+  // the rest of the 400 bytes (about 40 MB) is the program, its libraries and the output buffer.
+  const GridCounts g = grid_counts(1024);
+  const double chunks = std::ceil(g.springs / spring_chunk_size);
+  const double schedule = 2 * (2 * chunks + spring_max_passes + 1);  // push_back may double the capacity
+  const double held = model_hand_count(g, schedule) + 48 * g.particles + 48 * g.particles + 24 * g.particles +
+                      48 * g.particles;
+  CHECK(held / g.particles < 360);
+}
