@@ -18,7 +18,9 @@ std::size_t sum_bytes(const V&... v) {
 std::size_t model_bytes(const Model& m) {
   std::size_t total = sum_bytes(m.particle_inv_mass, m.particle_area, m.pinned, m.spring_a, m.spring_b,
                                 m.spring_rest, m.particle_spring_offset, m.particle_spring_index,
-                                m.spring_chunk_offset, m.spring_pass_offset, m.spring_pass_chunk, m.tri_index,
+                                m.spring_chunk_offset, m.spring_pass_offset, m.spring_pass_chunk,
+                                m.spring_chunk_open_offset, m.spring_chunk_open_range, m.spring_chunk_close_offset,
+                                m.spring_chunk_close_range, m.spring_block_close, m.tri_index,
                                 m.particle_tri_offset, m.particle_tri_index);
   total += m.particle_thickness.bytes() + m.spring_ke.bytes() + m.spring_kd.bytes() + m.spring_max_strain.bytes();
   for (const ClothInfo& c : m.cloths) total += sum_bytes(c.uvs, c.tri_uv);

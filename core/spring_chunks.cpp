@@ -29,6 +29,9 @@ void owner_ranges(const std::vector<Index>& owner, Index chunks, std::vector<Ind
     range.insert(range.end(), r.begin(), r.end());
     offset.push_back(Index(range.size() / 2));
   }
+  // Held for the model's life: no spare capacity from the growth above (core/memory_bytes.h counts capacity).
+  offset.shrink_to_fit();
+  range.shrink_to_fit();
 }
 
 // spring_block_close: for each block of each chunk, how many of the chunk's closing particles (in the order of

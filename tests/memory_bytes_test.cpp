@@ -33,6 +33,9 @@ double model_hand_count(const GridCounts& g, double chunk_entries) {
          16 * g.particles + 4 * 8 + 4 * chunk_entries;
 }
 
+// The blocked schedule of a 16^2 grid (1378 springs, below the smallest chunk size): one chunk in one pass.
+constexpr double one_chunk_schedule = 2 + 2 + 1 + 2 * (3 + 2) + 22;
+
 }  // namespace
 
 TEST_CASE("a grid model holds its hand-counted bytes: no spring CSR, no per-spring parameters, no UV indices") {
@@ -46,8 +49,12 @@ TEST_CASE("a grid model holds its hand-counted bytes: no spring CSR, no per-spri
   CHECK(m.spring_ke.uniform());
   CHECK(m.cloths[0].uv_per_vertex);
   CHECK(m.cloths[0].tri_uv.capacity() == 0);
-  // One chunk (1378 springs < spring_chunk_size) in one pass: chunk offsets {0, S}, pass offsets {0, 1}, one entry.
-  CHECK(model_bytes(m) == std::size_t(model_hand_count(g, 2 + 2 + 1)));
+  // one_chunk_schedule: chunk offsets {0, S}, pass offsets
+  // {0, 1}, one pass entry; the chunk opens and closes every particle: open and close offsets {0, 1, 1} (the
+  // chunk, then the slot of particles in no chunk) and one [begin, end) range each; and one closing count per
+  // block of 64 springs, ceil(1378 / 64) = 22.
+  REQUIRE(m.spring_chunk_offset.size() == 2);
+  CHECK(model_bytes(m) == std::size_t(model_hand_count(g, one_chunk_schedule)));
   CHECK(state_bytes(b.state) == std::size_t(48 * g.particles));
   CHECK(workspace_bytes(make_workspace(m)) == std::size_t(48 * g.particles));  // f and normals
 }
@@ -59,7 +66,7 @@ TEST_CASE("a varying parameter costs its per-spring array, and kernels that read
   const GridCounts g = grid_counts(16);
   CHECK_FALSE(b.model.spring_ke.uniform());
   CHECK(b.model.particle_spring_offset.size() == std::size_t(g.particles + 1));  // implicit reads it
-  CHECK(model_bytes(b.model) == std::size_t(model_hand_count(g, 5) + 8 * g.springs - 8 +
+  CHECK(model_bytes(b.model) == std::size_t(model_hand_count(g, one_chunk_schedule) + 8 * g.springs - 8 +
                                             4 * (g.particles + 1) + 8 * g.springs));
 }
 
@@ -68,8 +75,12 @@ TEST_CASE("the 1024^2 sheet's run holds under 400 bytes a particle by the same c
   // for the divergence guard, and the workspace. The formula is the one checked against the built model above;
   // the rest of the 400 bytes (about 40 MB) is the program, its libraries and the output buffer.
   const GridCounts g = grid_counts(1024);
-  const double chunks = std::ceil(g.springs / spring_chunk_size);
-  const double schedule = 2 * (2 * chunks + spring_max_passes + 1);  // push_back may double the capacity
+  // 6.3 M springs: the automatic chunk size is the largest (springs / 64 > spring_chunk_max). Per chunk: its
+  // offset, its pass entry and open/close offsets, and at most a few [begin, end) runs each (a grid chunk's span
+  // is one run; 8 is generous); one closing count per block of 64 springs. push_back may double a capacity.
+  const double chunks = std::ceil(g.springs / spring_chunk_max);
+  const double schedule = 2 * (4 * chunks + spring_max_passes + 3 + 2 * 2 * 8 * chunks) +
+                          std::ceil(g.springs / spring_block_size);
   const double held = model_hand_count(g, schedule) + 48 * g.particles + 48 * g.particles + 24 * g.particles +
                       48 * g.particles;
   CHECK(held / g.particles < 360);
