@@ -38,7 +38,8 @@ struct ClothInfo {
   std::vector<Index> tri_uv; // uv index per corner, local to this cloth (3 * triangles), empty without UVs
   Index pieces = 0;          // connected components
   Real friction = 0, restitution = 0, thickness = 0;
-  bool self_collision = false;
+  bool self_collision = false;   // collides with itself
+  bool cloth_collision = false;  // collides with the other cloths that have it (scene and cloth settings both on)
 };
 
 struct Model {
