@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <iterator>
+#include <cstdint>
+#include <limits>
 #include <memory>
 
 #include "core/error.h"
+#include "core/limits.h"
+#include "io/text_file.h"
 
 namespace clothsim::io {
 namespace {
@@ -24,22 +26,31 @@ Real wrap(Real t) { return t >= 0 && t <= 1 ? t : t - std::floor(t); }
 }  // namespace
 
 GreyImage read_grey_image(const std::string& path) {
-  const char* expected = "; expected a PNG, JPEG, TGA or BMP image with 8 or 16 bits per channel";
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path, std::string("cannot open the image (missing or unreadable)") + expected);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.empty()) throw Error(path, std::string("empty file") + expected);
+  const std::string what = "a PNG, JPEG, TGA or BMP image with 8 or 16 bits per channel", expected = "; expected " + what;
+  // read_text_file checks the file size before reading (a hostile image need not be small); the header's
+  // pixel count is checked below before stb allocates anything for the pixels: a 20000 x 20000 header would
+  // otherwise cost 400 MB to decode and 3.2 GB of grey levels.
+  const std::string bytes = read_text_file(path, what);
+  if (bytes.size() > std::size_t(std::numeric_limits<int>::max()))
+    throw Error(path, "file of " + std::to_string(bytes.size()) + " bytes is too large for the image reader" + expected);
+  if (bytes.empty()) throw Error(path, "empty file" + expected);
   const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
   const int size = static_cast<int>(bytes.size());
 
   GreyImage img;
   int channels = 0;
+  if (!stbi_info_from_memory(data, size, &img.width, &img.height, &channels))
+    throw Error(path, std::string("cannot decode the image (") + stbi_failure_reason() + ")" + expected);
+  if (std::int64_t(img.width) * img.height > limits::max_image_pixels)
+    throw Error(path, "image of " + std::to_string(img.width) + " x " + std::to_string(img.height) +
+                          " pixels; expected at most " + std::to_string(limits::max_image_pixels) +
+                          " pixels (docs/errors.md)");
   img.bits = stbi_is_16_bit_from_memory(data, size) ? 16 : 8;
   void* pixels = img.bits == 16 ? static_cast<void*>(stbi_load_16_from_memory(data, size, &img.width, &img.height, &channels, 0))
                                 : static_cast<void*>(stbi_load_from_memory(data, size, &img.width, &img.height, &channels, 0));
   if (!pixels) throw Error(path, std::string("cannot decode the image (") + stbi_failure_reason() + ")" + expected);
   std::unique_ptr<void, void (*)(void*)> owner(pixels, stbi_image_free);
-  if (img.width <= 0 || img.height <= 0) throw Error(path, std::string("image has no pixels") + expected);
+  if (img.width <= 0 || img.height <= 0) throw Error(path, "image has no pixels" + expected);
 
   const std::size_t n = std::size_t(img.width) * img.height;
   const double scale = img.bits == 16 ? 1.0 / 65535 : 1.0 / 255;

@@ -141,3 +141,22 @@ TEST_CASE("TGA, BMP and JPEG maps read like PNG") {
   const io::GreyImage jpg = io::read_grey_image((dir / "m.jpg").string());
   CHECK(io::sample_grey(jpg, Vec2(0.5, 0.5)) == doctest::Approx(128.0 / 255).epsilon(2.0 / 128));
 }
+
+TEST_CASE("the pixel limit (core/limits.h) is checked from the header, before the pixels are decoded") {
+  const auto dir = scratch_dir("map_limit");
+  // Headers alone, no pixel data: 16384 x 16384 = 2^28 is allowed and so reaches the decoder, which finds no
+  // pixels; one row more is refused by the limit, with the size it read.
+  write_text(dir / "at_limit.png", encode_png_header_only(16384, 16384));
+  write_text(dir / "over.png", encode_png_header_only(16384, 16385));
+  auto message = [&](const char* name) {
+    try {
+      io::read_grey_image((dir / name).string());
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  CHECK(message("at_limit.png").find("at_limit.png: cannot decode the image") != std::string::npos);
+  CHECK(message("over.png").find("over.png: image of 16384 x 16385 pixels; expected at most 268435456 pixels") !=
+        std::string::npos);
+}
