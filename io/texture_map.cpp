@@ -25,17 +25,18 @@ Real wrap(Real t) { return t >= 0 && t <= 1 ? t : t - std::floor(t); }
 
 // Codes in the largest JPEG Huffman table (DHT segment) of the file, 0 for a file that is not a JPEG. Debian's
 // stb_image trusts a table's 16 code counts, and more than 256 codes overrun its 257-entry arrays (found by
-// fuzz_texture_reader: tests/fuzz/texture/crash-jpeg-huffman-overflow.jpg). Every FF C4 is read as stb would
+// fuzz_texture_reader: tests/fuzz/texture/crash-jpeg-huffman-*.jpg). Every FF C4 is read as stb would
 // meet it, header or between scans: entropy-coded data stuffs FF with 00, so a valid file has no other.
 int largest_jpeg_huffman_table(const std::string& b) {
-  const auto at = [&](std::size_t i) { return static_cast<unsigned char>(b[i]); };
+  // stb reads a byte past the end of the file as 0; so does this.
+  const auto at = [&](std::size_t i) { return i < b.size() ? static_cast<unsigned char>(b[i]) : 0; };
   if (b.size() < 2 || at(0) != 0xFF || at(1) != 0xD8) return 0;
   int largest = 0;
   for (std::size_t pos = 2; pos + 4 <= b.size(); ++pos) {
     if (at(pos) != 0xFF || at(pos + 1) != 0xC4) continue;
     long left = long(at(pos + 2)) * 256 + at(pos + 3) - 2;
     std::size_t p = pos + 4;
-    while (left > 0 && p + 17 <= b.size()) {
+    while (left > 0 && p < b.size()) {
       int codes = 0;
       for (int i = 1; i <= 16; ++i) codes += at(p + i);
       largest = std::max(largest, codes);
