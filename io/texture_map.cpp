@@ -30,9 +30,12 @@ Real wrap(Real t) { return t >= 0 && t <= 1 ? t : t - std::floor(t); }
 int largest_jpeg_huffman_table(const std::string& b) {
   // stb reads a byte past the end of the file as 0; so does this.
   const auto at = [&](std::size_t i) { return i < b.size() ? static_cast<unsigned char>(b[i]) : 0; };
-  if (b.size() < 2 || at(0) != 0xFF || at(1) != 0xD8) return 0;
+  // stb takes a JPEG from its start-of-image marker FF D8, after any number of FF fill bytes.
+  std::size_t start = 0;
+  while (start < b.size() && at(start) == 0xFF) ++start;
+  if (start == 0 || at(start) != 0xD8) return 0;
   int largest = 0;
-  for (std::size_t pos = 2; pos + 4 <= b.size(); ++pos) {
+  for (std::size_t pos = start + 1; pos + 2 <= b.size(); ++pos) {
     if (at(pos) != 0xFF || at(pos + 1) != 0xC4) continue;
     long left = long(at(pos + 2)) * 256 + at(pos + 3) - 2;
     std::size_t p = pos + 4;
