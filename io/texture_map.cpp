@@ -75,6 +75,15 @@ GreyImage read_grey_image(const std::string& path) {
     throw Error(path, "image of " + std::to_string(img.width) + " x " + std::to_string(img.height) +
                           " pixels; expected at most " + std::to_string(limits::max_image_pixels) +
                           " pixels (docs/errors.md)");
+  // No format we read packs more than 8 * 1032 pixels into a byte (1-bit PNG rows under deflate's largest
+  // ratio; JPEG needs a bit per 8 x 8 block, RLE TGA a byte per 128 pixels). More pixels than that is a
+  // truncated or forged file that stb would decode from zeros past its end, for as long as the header says
+  // (fuzz_texture_reader: a 58-byte BMP claiming 3 x 16187137 pixels took over 10 s).
+  constexpr std::int64_t max_pixels_per_byte = 8 * 1032;
+  if (std::int64_t(img.width) * img.height > max_pixels_per_byte * std::int64_t(bytes.size()))
+    throw Error(path, "image of " + std::to_string(img.width) + " x " + std::to_string(img.height) + " pixels in " +
+                          std::to_string(bytes.size()) + " bytes, more than any image format packs (8256 pixels a " +
+                          "byte): the file is truncated or corrupt" + expected);
   img.bits = stbi_is_16_bit_from_memory(data, size) ? 16 : 8;
   void* pixels = img.bits == 16 ? static_cast<void*>(stbi_load_16_from_memory(data, size, &img.width, &img.height, &channels, 0))
                                 : static_cast<void*>(stbi_load_from_memory(data, size, &img.width, &img.height, &channels, 0));

@@ -69,7 +69,7 @@ inline std::string encode_png(int width, int height, int channels, int bits, con
   return png;
 }
 
-// A PNG with a header and no pixel data: what a hostile file claiming a huge image looks like (57 bytes).
+// A PNG with a header and no pixel data: what a hostile file claiming a huge image looks like (45 bytes).
 inline std::string encode_png_header_only(int width, int height) {
   std::string png = png_signature_and_header(width, height, 1, 8);
   png_chunk(png, "IEND", "");
