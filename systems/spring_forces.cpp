@@ -28,8 +28,11 @@ namespace {
 // structure-of-arrays lanes first, so the arithmetic (sqrt and division bound, docs/performance.md) runs as one
 // loop the compiler vectorises. It is spring_force_lane, the expression spring_force uses, so the two layouts
 // stay bitwise equal (tests/spring_layouts_test.cpp).
+// Uniform: ke and kd are one value each (stride-0 fields, an unmapped scene) and stay in registers; copying
+// them into two more lanes per spring cost 27-29 % (docs/performance.md). The choice is made once per block.
 constexpr Index spring_lane_block = 64;
 
+template <bool Uniform>
 void eval_spring_block(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Index begin, Index end,
                        Vec3* out) {
   alignas(64) Real dx[spring_lane_block], dy[spring_lane_block], dz[spring_lane_block];
@@ -41,15 +44,24 @@ void eval_spring_block(const Model& m, std::span<const Vec3> x, std::span<const 
     const Index s = begin + k, a = m.spring_a[s], b = m.spring_b[s];
     dx[k] = x[b][0] - x[a][0]; dy[k] = x[b][1] - x[a][1]; dz[k] = x[b][2] - x[a][2];
     dvx[k] = v[b][0] - v[a][0]; dvy[k] = v[b][1] - v[a][1]; dvz[k] = v[b][2] - v[a][2];
-    rest[k] = m.spring_rest[s]; ke[k] = m.spring_ke[s]; kd[k] = m.spring_kd[s];
+    rest[k] = m.spring_rest[s];
+    if constexpr (!Uniform) { ke[k] = m.spring_ke[s]; kd[k] = m.spring_kd[s]; }
   }
+  const Real ke0 = m.spring_ke[0], kd0 = m.spring_kd[0];
   for (Index k = 0; k < n; ++k) {
-    const SpringLane f = spring_force_lane(dx[k], dy[k], dz[k], dvx[k], dvy[k], dvz[k], rest[k], ke[k], kd[k]);
+    const SpringLane f = spring_force_lane(dx[k], dy[k], dz[k], dvx[k], dvy[k], dvz[k], rest[k],
+                                           Uniform ? ke0 : ke[k], Uniform ? kd0 : kd[k]);
     fx[k] = f.fx;
     fy[k] = f.fy;
     fz[k] = f.fz;
   }
   for (Index k = 0; k < n; ++k) out[k] = Vec3(fx[k], fy[k], fz[k]);
+}
+
+void eval_spring_block(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Index begin, Index end,
+                       Vec3* out) {
+  if (m.spring_ke.uniform() && m.spring_kd.uniform()) eval_spring_block<true>(m, x, v, begin, end, out);
+  else eval_spring_block<false>(m, x, v, begin, end, out);
 }
 
 }  // namespace
