@@ -21,12 +21,12 @@ void place_analytic(const ColliderDesc& d, ColliderInfo& c) {
   c.normal = (r * d.normal.cwiseQuotient(d.transform.scale)).normalized();
 }
 
-// Unique edges of the self-colliding triangles; each edge remembers its lowest triangle, which alone reports
+// Unique edges of the triangles that meet some cloth; each edge remembers its lowest triangle, which alone reports
 // it to the edge-edge test, so an edge found through both its triangles is tested once.
-void build_self_edges(const Model& m, CollisionModel& c) {
+void build_contact_edges(const Model& m, CollisionModel& c) {
   std::vector<std::array<Index, 3>> e;  // (a, b, tri), a < b
   for (Index t = 0; t < m.tri_count; ++t) {
-    if (!c.tri_self[t]) continue;
+    if (!c.tri_contact[t]) continue;
     for (int k = 0; k < 3; ++k) {
       const Index a = m.tri_index[3 * t + k], b = m.tri_index[3 * t + (k + 1) % 3];
       e.push_back({std::min(a, b), std::max(a, b), t});
@@ -46,23 +46,43 @@ void build_self_edges(const Model& m, CollisionModel& c) {
   }
 }
 
+// Which cloths meet which: a cloth itself when it self-collides (expensive: off by default), two different
+// cloths when both take part in cloth-cloth collision (on by default).
+void build_cloth_pairs(const Model& m, CollisionModel& c) {
+  const Index n = Index(m.cloths.size());
+  c.cloth_count = n;
+  c.cloth_pair.assign(std::size_t(n) * n, 0);
+  for (Index a = 0; a < n; ++a)
+    for (Index b = 0; b < n; ++b) {
+      const bool meet = a == b ? m.cloths[a].self_collision : m.cloths[a].cloth_collision && m.cloths[b].cloth_collision;
+      c.cloth_pair[std::size_t(a) * n + b] = meet;
+      c.cloth_contact = c.cloth_contact || meet;
+    }
+}
+
 }  // namespace
 
 void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& meshes, const std::vector<Vec3>& x,
                      Model& m) {
   CollisionModel& c = m.collision;
-  for (const ClothInfo& ci : m.cloths) c.self_collision = c.self_collision || ci.self_collision;
-  c.enabled = c.self_collision || !scene.colliders.empty();
-  if (!c.enabled) return;
+  build_cloth_pairs(m, c);
+  c.enabled = c.cloth_contact || !scene.colliders.empty();
+  if (!c.enabled) {
+    c = CollisionModel();  // model no more than the scene needs
+    return;
+  }
   c.iterations = scene.simulation.collision_iterations;
   c.broad_phase = scene.simulation.broad_phase;
 
   c.particle_cloth.resize(m.particle_count);
-  c.tri_self.assign(m.tri_count, 0);
+  c.tri_contact.assign(m.tri_count, 0);
   for (std::size_t k = 0; k < m.cloths.size(); ++k) {
     const ClothInfo& ci = m.cloths[k];
+    const std::uint8_t meets_some = std::any_of(c.cloth_pair.begin() + k * c.cloth_count,
+                                                c.cloth_pair.begin() + (k + 1) * c.cloth_count,
+                                                [](std::uint8_t p) { return p != 0; });
     for (Index i = ci.particle_begin; i < ci.particle_end; ++i) c.particle_cloth[i] = Index(k);
-    for (Index t = ci.tri_begin; t < ci.tri_end; ++t) c.tri_self[t] = ci.self_collision;
+    for (Index t = ci.tri_begin; t < ci.tri_end; ++t) c.tri_contact[t] = meets_some;
     c.max_thickness = std::max(c.max_thickness, ci.thickness);
   }
   for (Index i = 0; i < m.particle_count; ++i) c.max_thickness = std::max(c.max_thickness, m.particle_thickness[i]);
@@ -105,7 +125,7 @@ void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& 
     c.colliders.push_back(std::move(ci));
   }
 
-  if (c.self_collision) build_self_edges(m, c);
+  if (c.cloth_contact) build_contact_edges(m, c);
 
   // Teschner et al. 2003 §4: a cell near the size of a hashed box. A triangle's box is about an edge long
   // plus the thickness on each side, so the cell is mean edge + 2h (bench/collision_bench.cpp: 3.6x fewer
@@ -119,7 +139,7 @@ void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& 
 
   std::vector<Vec3> centroid;
   for (Index t = 0; t < m.tri_count; ++t)
-    if (c.tri_self[t]) {
+    if (c.tri_contact[t]) {
       c.prim.push_back(t);
       centroid.push_back((x[m.tri_index[3 * t]] + x[m.tri_index[3 * t + 1]] + x[m.tri_index[3 * t + 2]]) / 3);
     }

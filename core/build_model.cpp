@@ -110,6 +110,7 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
     info.restitution = cd.restitution;
     info.thickness = cd.thickness;
     info.self_collision = cd.self_collision;
+    info.cloth_collision = scene.simulation.cloth_collision && cd.cloth_collision;
     info.particle_begin = base;
     info.particle_end = base + mesh.vertex_count();
     info.tri_begin = m.tri_count;

@@ -1,6 +1,7 @@
 #pragma once
 // What the collision stage needs: the collider table and cloth-side collision topology (immutable, in Model),
-// and the per-step scratch (in Workspace). Empty for a scene without colliders and without self-collision.
+// and the per-step scratch (in Workspace). Empty for a scene without colliders and without a pair of cloths that
+// collide (a cloth with itself under selfCollision, two cloths under clothCollision).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -31,8 +32,8 @@ struct ColliderInfo {
 };
 
 struct CollisionModel {
-  bool enabled = false;            // any collider or any self-colliding cloth
-  bool self_collision = false;     // any self-colliding cloth
+  bool enabled = false;            // any collider, or cloth_contact
+  bool cloth_contact = false;      // some pair of cloths (a cloth with itself included) is tested
   int iterations = 0;              // detection + response passes per step
   BroadPhase broad_phase = BroadPhase::hash;
   std::vector<ColliderInfo> colliders;
@@ -47,20 +48,31 @@ struct CollisionModel {
 
   // --- cloth side
   std::vector<Index> particle_cloth;   // cloth of each particle (particle_count)
-  std::vector<std::uint8_t> tri_self;  // 1 when the triangle's cloth collides with itself (tri_count)
-  std::vector<Index> edge_a, edge_b;   // unique edges of self-colliding cloths (edge count)
+  Index cloth_count = 0;
+  // 1 when cloth a's vertices and edges are tested against cloth b's triangles and edges: a == b under the
+  // cloth's selfCollision, a != b when both have clothCollision (cloth_count * cloth_count, symmetric)
+  std::vector<std::uint8_t> cloth_pair;
+  std::vector<std::uint8_t> tri_contact;  // 1 when the triangle's cloth collides with some cloth (tri_count)
+  std::vector<Index> edge_a, edge_b;   // unique edges of the tri_contact triangles (edge count)
   std::vector<Index> edge_first_tri;   // lowest triangle holding the edge: the one that reports it (edge count)
-  std::vector<Index> tri_edge;         // the three edges of each self-colliding triangle, -1 otherwise (3 * tri_count)
+  std::vector<Index> tri_edge;         // the three edges of each tri_contact triangle, -1 otherwise (3 * tri_count)
   Real max_thickness = 0;              // m
   Real cell_size = 0;                  // spatial hash cell, m
 
-  // --- broad-phase primitives: cloth triangles of self-colliding cloths, then collider triangles
+  // --- broad-phase primitives: the tri_contact cloth triangles, then collider triangles
   // prim id p < tri_count is cloth triangle p; p >= tri_count is collider triangle p - tri_count.
   std::vector<Index> prim;             // (prim count)
   // BVH over prims, built once; node n: children node_child[2n], node_child[2n+1]; a leaf holds ~prim index
   // as a negative value in node_child[2n]. Nodes are in breadth-first order, level l at level_offset[l].
   std::vector<Index> node_child;       // (2 * node count)
   std::vector<Index> level_offset;     // (levels + 1)
+
+  // Whether a vertex or edge of cloth a meets a triangle or edge of cloth b (the narrow phase's pair filter).
+  bool cloths_collide(Index a, Index b) const { return cloth_pair[std::size_t(a) * cloth_count + b] != 0; }
+  // Vertex i against the cloth triangle with corners tri[0..2]: their cloths meet and i is not a corner.
+  bool vertex_meets_cloth_triangle(Index i, const Index* tri) const {
+    return cloths_collide(particle_cloth[i], particle_cloth[tri[0]]) && tri[0] != i && tri[1] != i && tri[2] != i;
+  }
 };
 
 // Spatial hash after Teschner et al. 2003: entries (bucket, prim, cell) scattered into contiguous bucket ranges.

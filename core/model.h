@@ -39,7 +39,8 @@ struct ClothInfo {
   bool uv_per_vertex = false; // UV index = local vertex index (grids; OBJs whose vt follow v): tri_uv stays empty
   Index pieces = 0;          // connected components
   Real friction = 0, restitution = 0, thickness = 0;
-  bool self_collision = false;
+  bool self_collision = false;   // collides with itself
+  bool cloth_collision = false;  // collides with the other cloths that have it (scene and cloth settings both on)
 };
 
 struct Model {

@@ -28,6 +28,7 @@ struct SimulationDesc {
   int newton_iterations = 1;
   BroadPhase broad_phase = BroadPhase::hash;
   int checkpoint_every = 0;    // frames between checkpoints (and one at the end); 0: none (io/checkpoint.h)
+  bool cloth_collision = true; // different cloths collide with each other (a cloth with itself: selfCollision)
 };
 
 struct RandomForceDesc {
@@ -70,7 +71,8 @@ struct ClothDesc {
   TransformDesc transform;
   Real friction = 0.3;
   Real restitution = 0;
-  bool self_collision = false;
+  bool self_collision = false;  // with itself: off by default, it is expensive
+  bool cloth_collision = true;  // with the other cloths, when <simulation clothCollision> is on too
   Real density = 0.2;         // kg/m^2
   Real stiffness = 1000;      // N/m per spring
   Real shear_scale = 1;       // shear springs: stiffness * shear_scale (grids)

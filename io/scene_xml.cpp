@@ -168,7 +168,7 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
   ElementReader r(file, text, n,
                   {"timestep", "fps", "startFrame", "endFrame", "integrator", "gravity", "collisionIterations",
                    "cgTolerance", "cgMaxIterations", "newtonIterations",
-                   "broadPhase", "checkpointEvery"});
+                   "broadPhase", "checkpointEvery", "clothCollision"});
   sim.timestep = r.positive("timestep", sim.timestep, "s");
   sim.fps = r.positive("fps", sim.fps, "frames per second");
   sim.start_frame = r.integer("startFrame", sim.start_frame);
@@ -199,6 +199,7 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
   else r.bad("broadPhase", "hash or bvh");
   sim.checkpoint_every = r.integer("checkpointEvery", sim.checkpoint_every);
   if (sim.checkpoint_every < 0) r.bad("checkpointEvery", "a number of frames >= 0 (0: no checkpoints)");
+  sim.cloth_collision = r.boolean("clothCollision", sim.cloth_collision);
 }
 
 void read_forces(const std::string& file, const std::string& text, pugi::xml_node n, ForcesDesc& f) {
@@ -288,7 +289,7 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
                 ClothDesc& c, int index) {
   ElementReader r(file, text, n,
                   {"name", "obj", "grid", "size", "saveDir", "saveName", "texture", "translate", "rotate", "scale",
-                   "friction", "restitution", "selfCollision", "maxStrain"});
+                   "friction", "restitution", "selfCollision", "clothCollision", "maxStrain"});
   c.line = r.line();
   c.name = r.text("name", "cloth" + std::to_string(index));
   if (r.has("obj") == r.has("grid")) r.fail("expected exactly one of obj=\"mesh.obj\" or grid=\"NX NY\"");
@@ -319,6 +320,7 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
   c.restitution = r.non_negative("restitution", c.restitution, "0..1");
   if (c.restitution > 1) r.bad("restitution", "a number in [0, 1]");
   c.self_collision = r.boolean("selfCollision", c.self_collision);
+  c.cloth_collision = r.boolean("clothCollision", c.cloth_collision);
   if (r.has("maxStrain")) c.max_strain = r.positive("maxStrain", 0, "largest strain (|d| - rest)/rest, e.g. 0.1");
 
   bool has_density = false;

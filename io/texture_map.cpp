@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <iterator>
+#include <cstdint>
+#include <limits>
 #include <memory>
 
 #include "core/error.h"
+#include "core/limits.h"
+#include "io/text_file.h"
 
 namespace clothsim::io {
 namespace {
@@ -21,25 +23,73 @@ double luminance(const double* c, int channels) {
 
 Real wrap(Real t) { return t >= 0 && t <= 1 ? t : t - std::floor(t); }
 
+// Codes in the largest JPEG Huffman table (DHT segment) of the file, 0 for a file that is not a JPEG. Debian's
+// stb_image trusts a table's 16 code counts, and more than 256 codes overrun its 257-entry arrays (found by
+// fuzz_texture_reader: tests/fuzz/texture/crash-jpeg-huffman-*.jpg). Every FF C4 is read as stb would
+// meet it, header or between scans: entropy-coded data stuffs FF with 00, so a valid file has no other.
+int largest_jpeg_huffman_table(const std::string& b) {
+  // stb reads a byte past the end of the file as 0; so does this.
+  const auto at = [&](std::size_t i) { return i < b.size() ? static_cast<unsigned char>(b[i]) : 0; };
+  // stb takes a JPEG from its start-of-image marker FF D8, after any number of FF fill bytes.
+  std::size_t start = 0;
+  while (start < b.size() && at(start) == 0xFF) ++start;
+  if (start == 0 || at(start) != 0xD8) return 0;
+  int largest = 0;
+  for (std::size_t pos = start + 1; pos + 2 <= b.size(); ++pos) {
+    if (at(pos) != 0xFF || at(pos + 1) != 0xC4) continue;
+    long left = long(at(pos + 2)) * 256 + at(pos + 3) - 2;
+    std::size_t p = pos + 4;
+    while (left > 0 && p < b.size()) {
+      int codes = 0;
+      for (int i = 1; i <= 16; ++i) codes += at(p + i);
+      largest = std::max(largest, codes);
+      p += 17 + codes;
+      left -= 17 + codes;
+    }
+  }
+  return largest;
+}
+
 }  // namespace
 
 GreyImage read_grey_image(const std::string& path) {
-  const char* expected = "; expected a PNG, JPEG, TGA or BMP image with 8 or 16 bits per channel";
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path, std::string("cannot open the image (missing or unreadable)") + expected);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.empty()) throw Error(path, std::string("empty file") + expected);
+  const std::string what = "a PNG, JPEG, TGA or BMP image with 8 or 16 bits per channel", expected = "; expected " + what;
+  // read_text_file checks the file size before reading (a hostile image need not be small); the header's
+  // pixel count is checked below before stb allocates anything for the pixels: a 20000 x 20000 header would
+  // otherwise cost 400 MB to decode and 3.2 GB of grey levels.
+  const std::string bytes = read_text_file(path, what);
+  if (bytes.size() > std::size_t(std::numeric_limits<int>::max()))
+    throw Error(path, "file of " + std::to_string(bytes.size()) + " bytes is too large for the image reader" + expected);
+  if (bytes.empty()) throw Error(path, "empty file" + expected);
+  if (const int codes = largest_jpeg_huffman_table(bytes); codes > 256)
+    throw Error(path, "JPEG Huffman table of " + std::to_string(codes) +
+                          " codes, more than a table holds (256): the file is corrupt" + expected);
   const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
   const int size = static_cast<int>(bytes.size());
 
   GreyImage img;
   int channels = 0;
+  if (!stbi_info_from_memory(data, size, &img.width, &img.height, &channels))
+    throw Error(path, std::string("cannot decode the image (") + stbi_failure_reason() + ")" + expected);
+  if (std::int64_t(img.width) * img.height > limits::max_image_pixels)
+    throw Error(path, "image of " + std::to_string(img.width) + " x " + std::to_string(img.height) +
+                          " pixels; expected at most " + std::to_string(limits::max_image_pixels) +
+                          " pixels (docs/errors.md)");
+  // No format we read packs more than 8 * 1032 pixels into a byte (1-bit PNG rows under deflate's largest
+  // ratio; JPEG needs a bit per 8 x 8 block, RLE TGA a byte per 128 pixels). More pixels than that is a
+  // truncated or forged file that stb would decode from zeros past its end, for as long as the header says
+  // (fuzz_texture_reader: a 58-byte BMP claiming 3 x 16187137 pixels took over 10 s).
+  constexpr std::int64_t max_pixels_per_byte = 8 * 1032;
+  if (std::int64_t(img.width) * img.height > max_pixels_per_byte * std::int64_t(bytes.size()))
+    throw Error(path, "image of " + std::to_string(img.width) + " x " + std::to_string(img.height) + " pixels in " +
+                          std::to_string(bytes.size()) + " bytes, more than any image format packs (8256 pixels a " +
+                          "byte): the file is truncated or corrupt" + expected);
   img.bits = stbi_is_16_bit_from_memory(data, size) ? 16 : 8;
   void* pixels = img.bits == 16 ? static_cast<void*>(stbi_load_16_from_memory(data, size, &img.width, &img.height, &channels, 0))
                                 : static_cast<void*>(stbi_load_from_memory(data, size, &img.width, &img.height, &channels, 0));
   if (!pixels) throw Error(path, std::string("cannot decode the image (") + stbi_failure_reason() + ")" + expected);
   std::unique_ptr<void, void (*)(void*)> owner(pixels, stbi_image_free);
-  if (img.width <= 0 || img.height <= 0) throw Error(path, std::string("image has no pixels") + expected);
+  if (img.width <= 0 || img.height <= 0) throw Error(path, "image has no pixels" + expected);
 
   const std::size_t n = std::size_t(img.width) * img.height;
   const double scale = img.bits == 16 ? 1.0 / 65535 : 1.0 / 255;

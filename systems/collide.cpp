@@ -66,13 +66,12 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
   if (c.prim.empty()) return;
   parallel_over(m.particle_count, contact_grain, [&](Index i) {
     const Real h = m.particle_thickness[i];
-    const bool self = c.self_collision && m.cloths[c.particle_cloth[i]].self_collision;
     const Aabb q = swept_box(in.x[i], out.x[i]);
     const Real own_motion = (out.x[i] - in.x[i]).norm();
     for_each_candidate(m, s, mode, q, [&](Index slot) {
       const Index prim = c.prim[slot];
       const PrimCorners t = corners(m, in, out, s, prim);
-      if (t.cloth && (!self || t.p[0] == i || t.p[1] == i || t.p[2] == i)) return;
+      if (t.cloth && !c.vertex_meets_cloth_triangle(i, t.p)) return;
       const Vec3& p = out.x[i];
       const Vec3 tlo = t.x1[0].cwiseMin(t.x1[1]).cwiseMin(t.x1[2]), thi = t.x1[0].cwiseMax(t.x1[1]).cwiseMax(t.x1[2]);
       if (((p.array() + h + own_motion) < tlo.array()).any() || ((p.array() - h - own_motion) > thi.array()).any())
@@ -90,7 +89,7 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
       on_vertex(i, prim, t, px, d);
     });
   });
-  if (!c.self_collision) return;
+  if (!c.cloth_contact) return;
   parallel_over(Index(c.edge_a.size()), contact_grain, [&](Index e) {
     const Index a = c.edge_a[e], b = c.edge_b[e];
     const Real h = m.particle_thickness[a];
@@ -105,6 +104,7 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
         if (f <= e || c.edge_first_tri[f] != prim) continue;
         const Index fa = c.edge_a[f], fb = c.edge_b[f];
         if (fa == a || fa == b || fb == a || fb == b) continue;
+        if (!c.cloths_collide(c.particle_cloth[a], c.particle_cloth[fa])) continue;
         // Cheap reject before the closest points: the end-of-step boxes must come within h.
         const Aabb ea = swept_box(out.x[a], out.x[b]), eb = swept_box(out.x[fa], out.x[fb]);
         if (((ea.lo.array() - h) > eb.hi.array()).any() || ((eb.lo.array() - h) > ea.hi.array()).any()) continue;
@@ -218,12 +218,11 @@ std::int64_t collide_continuous(const Model& m, const State& in, State& out, Col
   clear_accumulators(m, s);
   parallel_over(m.particle_count, contact_grain, [&](Index i) {
     const Real thick = m.particle_thickness[i];
-    const bool self = c.self_collision && m.cloths[c.particle_cloth[i]].self_collision;
     const Aabb q = swept_box(in.x[i], out.x[i]);
     for_each_candidate(m, s, mode, q, [&](Index slot) {
       const Index prim = c.prim[slot];
       const PrimCorners t = corners(m, in, out, s, prim);
-      if (t.cloth && (!self || t.p[0] == i || t.p[1] == i || t.p[2] == i)) return;
+      if (t.cloth && !c.vertex_meets_cloth_triangle(i, t.p)) return;
       if (!t.cloth && m.particle_inv_mass[i] == 0) return;
       const Vec3 x0[4] = {in.x[i], t.x0[0], t.x0[1], t.x0[2]}, x1[4] = {out.x[i], t.x1[0], t.x1[1], t.x1[2]};
       Real when;

@@ -152,6 +152,7 @@ TEST_CASE("bad maps: exit code 2, a message naming the file and the attribute, a
   const std::string good = encode_png(16, 16, 1, 8, std::vector<std::uint16_t>(256, 7));
   write_text(dir / "truncated.png", good.substr(0, good.size() / 2));
   write_text(dir / "text.png", "this is not an image\n");
+  write_text(dir / "huge.png", encode_png_header_only(20000, 20000));
   write_text(dir / "nouv.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   struct Case {
     const char* cloth;      // attributes and children of <cloth>
@@ -159,11 +160,14 @@ TEST_CASE("bad maps: exit code 2, a message naming the file and the attribute, a
   };
   const Case cases[] = {
       {R"(obj="nouv.obj"><stiffness min="1" max="2" map="ok.png"/>)", "<stiffness map="},
-      {R"(grid="3 3"><stiffness min="1" max="2" map="missing.png"/>)", "missing.png: cannot open"},
+      {R"(grid="3 3"><stiffness min="1" max="2" map="missing.png"/>)", "missing.png: cannot read file"},
       {R"(grid="3 3"><damping min="1" max="2" map="empty.png"/>)", "empty.png: empty file"},
       {R"(grid="3 3"><density min="1" max="2" map="truncated.png"/>)", "truncated.png: cannot decode"},
       {R"(grid="3 3"><thickness min="0.1" max="0.2" map="text.png"/>)", "text.png: cannot decode"},
       {R"(grid="3 3"><pins map="text.png"/>)", "<pins map="},
+      // refused from its header, before stb allocates 400 MB for the pixels
+      {R"(grid="3 3"><stiffness min="1" max="2" map="huge.png"/>)",
+       "huge.png: image of 20000 x 20000 pixels; expected at most 268435456 pixels"},
       {R"(grid="3 3"><stiffness min="5" max="2" map="ok.png"/>)", "min=\"5\" is above max=\"2\""},
       {R"(grid="3 3"><damping min="-1" max="2" map="ok.png"/>)", "min=\"-1\""},
       {R"(grid="3 3"><density min="0" max="2" map="ok.png"/>)", "expected a positive number"},

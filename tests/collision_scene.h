@@ -31,6 +31,18 @@ inline LoadedCollisionScene load_collision_scene(const std::filesystem::path& xm
   return s;
 }
 
+// Runs every frame of a scene, calling check(frame, model, state, workspace) after each.
+template <class Check>
+void run_frames(LoadedCollisionScene& sc, Check&& check) {
+  const Model& m = sc.built.model;
+  State state = sc.built.state, scratch = state;
+  Workspace ws = make_workspace(m);
+  for (int f = m.start_frame; f <= m.end_frame; ++f) {
+    if (f > m.start_frame) step_frame(m, state, scratch, ws);
+    check(f, m, state, ws);
+  }
+}
+
 // A UV sphere (closed, outward counter-clockwise normals) as OBJ text, centred at c.
 inline std::string sphere_obj(const Vec3& c, Real r, int rings = 12, int segments = 24) {
   std::string s;

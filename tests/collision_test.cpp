@@ -31,19 +31,9 @@ Real centroid_v(const State& s) {
   return v / Real(s.v.size());
 }
 
-// Runs every frame of a scene, calling check(frame, model, state, workspace) after each.
-template <class Check>
-void run_frames(test::LoadedCollisionScene& sc, Check&& check) {
-  const Model& m = sc.built.model;
-  State state = sc.built.state, scratch = state;
-  Workspace ws = make_workspace(m);
-  for (int f = m.start_frame; f <= m.end_frame; ++f) {
-    if (f > m.start_frame) step_frame(m, state, scratch, ws);
-    check(f, m, state, ws);
-  }
-}
-
 }  // namespace
+
+using clothsim::test::run_frames;
 
 TEST_CASE("vertex-triangle proximity: Cramer barycentrics, tolerance delta = h / longest edge") {
   TriangleProximity p;

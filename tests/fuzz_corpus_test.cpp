@@ -47,3 +47,8 @@ TEST_CASE("the scene fuzz corpus: seeds are accepted and past crash inputs are r
 TEST_CASE("the checkpoint fuzz corpus: seeds are accepted and past crash inputs are refused cleanly") {
   replay("checkpoint", clothsim::fuzz::fuzz_checkpoint, 1);
 }
+
+TEST_CASE("the image-map fuzz corpus: seeds are accepted and past crash inputs are refused cleanly") {
+  // PNG 8/16-bit grey and RGB, TGA plain and RLE, BMP, JPEG grey and colour (tests/fuzz/texture_seeds)
+  replay("texture", clothsim::fuzz::fuzz_texture, 9);
+}

@@ -22,6 +22,23 @@ inline void put_be32(std::string& s, std::uint32_t v) {
   for (int k = 3; k >= 0; --k) s += char((v >> (8 * k)) & 0xff);
 }
 
+inline void png_chunk(std::string& png, const char* type, const std::string& data) {
+  put_be32(png, std::uint32_t(data.size()));
+  const std::string body = type + data;
+  png += body;
+  put_be32(png, png_crc(body));
+}
+
+inline std::string png_signature_and_header(int width, int height, int channels, int bits) {
+  std::string png = "\x89PNG\r\n\x1a\n", ihdr;
+  put_be32(ihdr, width);
+  put_be32(ihdr, height);
+  ihdr += char(bits); ihdr += char(channels == 3 ? 2 : 0);
+  ihdr += std::string(3, '\0');
+  png_chunk(png, "IHDR", ihdr);
+  return png;
+}
+
 // samples: row-major from the top row, `channels` (1 grey, 3 RGB) per pixel, each < 2^bits.
 inline std::string encode_png(int width, int height, int channels, int bits, const std::vector<std::uint16_t>& samples) {
   std::string raw;
@@ -46,21 +63,16 @@ inline std::string encode_png(int width, int height, int channels, int bits, con
   for (unsigned char c : raw) { a = (a + c) % 65521; b = (b + a) % 65521; }
   put_be32(z, (b << 16) | a);
 
-  std::string png = "\x89PNG\r\n\x1a\n";
-  auto chunk = [&](const char* type, const std::string& data) {
-    put_be32(png, std::uint32_t(data.size()));
-    const std::string body = type + data;
-    png += body;
-    put_be32(png, png_crc(body));
-  };
-  std::string ihdr;
-  put_be32(ihdr, width);
-  put_be32(ihdr, height);
-  ihdr += char(bits); ihdr += char(channels == 3 ? 2 : 0);
-  ihdr += std::string(3, '\0');
-  chunk("IHDR", ihdr);
-  chunk("IDAT", z);
-  chunk("IEND", "");
+  std::string png = png_signature_and_header(width, height, channels, bits);
+  png_chunk(png, "IDAT", z);
+  png_chunk(png, "IEND", "");
+  return png;
+}
+
+// A PNG with a header and no pixel data: what a hostile file claiming a huge image looks like (45 bytes).
+inline std::string encode_png_header_only(int width, int height) {
+  std::string png = png_signature_and_header(width, height, 1, 8);
+  png_chunk(png, "IEND", "");
   return png;
 }
 

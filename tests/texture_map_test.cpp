@@ -141,3 +141,38 @@ TEST_CASE("TGA, BMP and JPEG maps read like PNG") {
   const io::GreyImage jpg = io::read_grey_image((dir / "m.jpg").string());
   CHECK(io::sample_grey(jpg, Vec2(0.5, 0.5)) == doctest::Approx(128.0 / 255).epsilon(2.0 / 128));
 }
+
+TEST_CASE("the pixel limit (core/limits.h) and the pixels a file can hold are checked from the header, before decoding") {
+  const auto dir = scratch_dir("map_limit");
+  // Headers alone, no pixel data: 16384 x 16384 = 2^28 passes the limit and is refused by the next check (far
+  // more pixels than 45 bytes can hold); one row more is refused by the limit, with the size it read.
+  write_text(dir / "at_limit.png", encode_png_header_only(16384, 16384));
+  write_text(dir / "over.png", encode_png_header_only(16384, 16385));
+  auto message = [&](const char* name) {
+    try {
+      io::read_grey_image((dir / name).string());
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  CHECK(message("at_limit.png").find("at_limit.png: image of 16384 x 16384 pixels in 45 bytes, more than any image "
+                                     "format packs (8256 pixels a byte)") != std::string::npos);
+  CHECK(message("over.png").find("over.png: image of 16384 x 16385 pixels; expected at most 268435456 pixels") !=
+        std::string::npos);
+}
+
+TEST_CASE("an image may pack at most 8256 pixels a byte: a real PNG is read, a forged header is not") {
+  const auto dir = scratch_dir("map_density");
+  write_constant_png(dir / "flat.png", 512, 512, 200);
+  CHECK(io::read_grey_image((dir / "flat.png").string()).grey.size() == 512u * 512u);
+  // A header alone (45 bytes) claiming 1024 x 1024 = 1,048,576 pixels, above 8256 x 45 = 371,520.
+  write_text(dir / "forged.png", encode_png_header_only(1024, 1024));
+  std::string what = "accepted";
+  try {
+    io::read_grey_image((dir / "forged.png").string());
+  } catch (const Error& e) {
+    what = e.what();
+  }
+  CHECK(what.find("forged.png: image of 1024 x 1024 pixels in 45 bytes") != std::string::npos);
+}

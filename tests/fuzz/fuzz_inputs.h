@@ -14,6 +14,7 @@
 #include "io/checkpoint.h"
 #include "io/obj_reader.h"
 #include "io/scene_xml.h"
+#include "io/texture_map.h"
 
 namespace clothsim::fuzz {
 
@@ -60,6 +61,22 @@ inline bool fuzz_scene(std::string_view bytes) {
 inline bool fuzz_checkpoint(std::string_view bytes) {
   try {
     io::decode_checkpoint("fuzz.ckpt", bytes);
+  } catch (const Error&) {
+    return false;
+  }
+  return true;
+}
+
+// An image map (stb_image: PNG, JPEG, TGA, BMP, 8 or 16 bits), then sampled inside, on and beyond [0, 1]^2
+// (bilinear filtering at the borders, wrapping).
+inline bool fuzz_texture(std::string_view bytes) {
+  const std::string path = input_file(bytes, ".img");
+  try {
+    const io::GreyImage image = io::read_grey_image(path);
+    for (const Vec2& uv : {Vec2(0, 0), Vec2(1, 1), Vec2(0.37, 0.61), Vec2(-2.25, 3.5)}) {
+      const Real g = io::sample_grey(image, uv);
+      if (!(g >= 0 && g <= 1)) std::abort();  // a grey level outside [0, 1] is a bug, like a crash
+    }
   } catch (const Error&) {
     return false;
   }
