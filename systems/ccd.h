@@ -2,6 +2,8 @@
 // Continuous vertex-triangle detection along the linear trajectories of a step (Provot 1997; Bridson, Fedkiw &
 // Anderson 2002 §6.2): the times t in [0, 1] at which the vertex and the triangle are coplanar are the roots of
 // the cubic ((b - a) x (c - a)) . (p - a) = 0; a root whose point lies inside the triangle is a collision.
+// Edge-edge detection (§4 of the same paper) solves the same cubic for the four edge endpoints; a root at which the
+// closest points of the two segments come within a tolerance is a collision.
 #include <cmath>
 
 #include "systems/proximity.h"
@@ -72,6 +74,26 @@ inline bool vertex_triangle_ccd(const Vec3 x0[4], const Vec3 x1[4], Real h, Real
     Vec3 x[4];
     for (int j = 0; j < 4; ++j) x[j] = (1 - t) * x0[j] + t * x1[j];
     if (vertex_triangle_proximity(x[0], x[1], x[2], x[3], h, px) && std::abs(px.d) < h) {
+      t_hit = t;
+      return true;
+    }
+  }
+  return false;
+}
+
+// Earliest time in [0, 1] at which edge x[0]x[1] meets edge x[2]x[3] (all moving linearly from x0 to x1): a
+// coplanarity root at which the segments' closest points (clamped to the segments) are nearer than tol.
+// px: the closest points at the hit. False when the edges stay apart.
+inline bool edge_edge_ccd(const Vec3 x0[4], const Vec3 x1[4], Real tol, Real& t_hit, EdgeProximity& px) {
+  // Coplanarity of the four endpoints: x[0] against the "triangle" (x[1], x[2], x[3]).
+  Real k[4], roots[3];
+  coplanarity_cubic(x0, x1, k);
+  const int n = cubic_roots_01(k, roots);
+  for (int i = 0; i < n; ++i) {
+    const Real t = roots[i];
+    Vec3 x[4];
+    for (int j = 0; j < 4; ++j) x[j] = (1 - t) * x0[j] + t * x1[j];
+    if (edge_edge_proximity(x[0], x[1], x[2], x[3], px) && px.d < tol) {
       t_hit = t;
       return true;
     }
