@@ -66,7 +66,7 @@ TEST_CASE("a corrupt gzip frame stops the run with exit code 2 naming that file"
   write_gzip(dir / "full.gz", std::string(quad_obj) + std::string(4000, '#') + "\n");
   std::ifstream in(dir / "full.gz", std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  for (int f = 1; f <= 3; ++f) write_gzip(dir / ("b" + std::to_string(f) + ".obj.gz"), quad_obj);
+  for (const char* name : {"b1.obj.gz", "b2.obj.gz", "b3.obj.gz"}) write_gzip(dir / name, quad_obj);
   write_text(dir / "b2.obj.gz", bytes.substr(0, bytes.size() / 2));  // truncated
   write_text(dir / "s.xml", scene_with("<static name=\"body\" sequence=\"b#.obj.gz\"/>"));
   const CliResult r = run_cli("run " + (dir / "s.xml").string() + " --quiet");
@@ -140,4 +140,43 @@ TEST_CASE("animated collider: frames are interpolated linearly per step, velocit
   CHECK(ws.collision.collider_x0[0].y() == doctest::Approx(expected0));
   CHECK((ws.collision.collider_x1[2].y() - ws.collision.collider_x0[2].y()) / m.dt == doctest::Approx(5.76));
   CHECK(ws.collision.collider_x1[1].y() == doctest::Approx(expected1));
+}
+
+namespace {
+// The shared data folder beside the checkout (../shared/data), or beside the folder holding it (a worktree under
+// wt/); CLOTHSIM_SHARED_DATA overrides. Empty when absent: the tests that use it then skip.
+std::filesystem::path shared_data() {
+  if (const char* env = std::getenv("CLOTHSIM_SHARED_DATA")) return env;
+  const std::filesystem::path root = CLOTHSIM_SOURCE_DIR;
+  for (const auto& up : {root.parent_path(), root.parent_path().parent_path()})
+    if (std::filesystem::is_directory(up / "shared" / "data")) return up / "shared" / "data";
+  return {};
+}
+}  // namespace
+
+TEST_CASE("the real animated bodies (shared data, skipped without it): Kick and Rumba read as gzip, unpadded") {
+  const auto data = shared_data();
+  if (data.empty() || !std::filesystem::is_directory(data / "colliders" / "animated" / "cipc_kick")) {
+    MESSAGE("shared data not found (../shared/data): skipped");
+    return;
+  }
+  // data/MANIFEST.md: 12,811 vertices and 25,472 triangles in every frame; Kick's fastest frame step moves a
+  // vertex 0.66 m (frame 70 to 71), Rumba's at most 8.3 cm. Frames 70..71 of each, read as a scene would.
+  for (const auto& [name, fastest] : {std::pair{"cipc_kick", 0.66}, std::pair{"cipc_rumba", 0.0}}) {
+    const auto dir = scratch_dir(std::string("collider_real_") + name);
+    write_text(dir / "s.xml", "<scene>\n<simulation fps=\"25\" startFrame=\"70\" endFrame=\"71\"/>\n"
+                              "<static name=\"body\" sequence=\"" +
+                                  (data / "colliders" / "animated" / name / "shell#.obj.gz").string() +
+                                  "\"/>\n<cloth name=\"c\" grid=\"3 3\"/>\n</scene>\n");
+    const auto meshes = io::read_colliders(io::read_scene((dir / "s.xml").string()));
+    REQUIRE(meshes[0].frames.size() == 2);
+    const MeshData &a = meshes[0].frames[0], &b = meshes[0].frames[1];
+    CHECK(a.vertex_count() == 12811);
+    CHECK(a.triangle_count() == 25472);
+    CHECK(a.tri_index == b.tri_index);
+    Real most = 0;
+    for (Index i = 0; i < a.vertex_count(); ++i) most = std::max(most, (b.positions[i] - a.positions[i]).norm());
+    if (fastest > 0) CHECK(most == doctest::Approx(fastest).epsilon(0.01));
+    else CHECK(most < 0.083);
+  }
 }

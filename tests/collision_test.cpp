@@ -398,3 +398,22 @@ TEST_CASE("collision runs give the same bytes at 1 and 2 threads: self-collision
       CHECK(std::memcmp(result[0].data(), result[1].data(), result[0].size() * sizeof(Vec3)) == 0);
     }
 }
+
+TEST_CASE("--stats check for open collider meshes: cloth triangles crossing a collider triangle, counted by hand") {
+  // An open collider, one triangle in y = 0 covering x + z <= 1; an upright 2-triangle cloth in the plane
+  // z = 0.3 over x in [0.1, 0.5], y in [-0.1, 0.1] cuts through it: both cloth triangles cross it (2 pairs).
+  // Lifted by 0.2 m it crosses nothing.
+  const auto dir = scratch_dir("collision_open_crossings");
+  write_text(dir / "floor.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 3 2\n");
+  for (const char* y : {"0", "0.2"}) {
+    write_text(dir / "s.xml", std::string(R"(<scene>
+  <static name="floor" obj="floor.obj"/>
+  <cloth name="c" grid="2 2" size="0.4 0.2" rotate="90 0 0" translate="0.3 )") + y + R"( 0.3"/></scene>)");
+    auto sc = load_collision_scene(dir / "s.xml");
+    const Model& m = sc.built.model;
+    REQUIRE_FALSE(m.collision.colliders[0].closed);
+    const Workspace ws = make_workspace(m);
+    CHECK(count_inside(m, sc.built.state.x, ws.collision, 0) == 0);  // not defined for an open mesh
+    CHECK(count_collider_crossings(m, sc.built.state.x, ws.collision, 0) == (std::string(y) == "0" ? 2 : 0));
+  }
+}
