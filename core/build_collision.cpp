@@ -21,28 +21,30 @@ void place_analytic(const ColliderDesc& d, ColliderInfo& c) {
   c.normal = (r * d.normal.cwiseQuotient(d.transform.scale)).normalized();
 }
 
-// Unique edges of the triangles that meet some cloth; each edge remembers its lowest triangle, which alone reports
-// it to the edge-edge test, so an edge found through both its triangles is tested once.
-void build_contact_edges(const Model& m, CollisionModel& c) {
+// Unique edges of the triangles t < tri_count with keep(t); each edge remembers its lowest triangle, which alone
+// reports it to the edge-edge tests, so an edge found through both its triangles is tested once.
+template <class Keep>
+void build_edges(const std::vector<Index>& tri_index, Index tri_count, Keep&& keep, std::vector<Index>& edge_a,
+                 std::vector<Index>& edge_b, std::vector<Index>& first_tri, std::vector<Index>& tri_edge) {
   std::vector<std::array<Index, 3>> e;  // (a, b, tri), a < b
-  for (Index t = 0; t < m.tri_count; ++t) {
-    if (!c.tri_contact[t]) continue;
+  for (Index t = 0; t < tri_count; ++t) {
+    if (!keep(t)) continue;
     for (int k = 0; k < 3; ++k) {
-      const Index a = m.tri_index[3 * t + k], b = m.tri_index[3 * t + (k + 1) % 3];
+      const Index a = tri_index[3 * t + k], b = tri_index[3 * t + (k + 1) % 3];
       e.push_back({std::min(a, b), std::max(a, b), t});
     }
   }
   std::sort(e.begin(), e.end());
-  c.tri_edge.assign(3 * std::size_t(m.tri_count), -1);
+  tri_edge.assign(3 * std::size_t(tri_count), -1);
   for (std::size_t k = 0; k < e.size(); ++k) {
     if (k == 0 || e[k][0] != e[k - 1][0] || e[k][1] != e[k - 1][1]) {
-      c.edge_a.push_back(e[k][0]);
-      c.edge_b.push_back(e[k][1]);
-      c.edge_first_tri.push_back(e[k][2]);
+      edge_a.push_back(e[k][0]);
+      edge_b.push_back(e[k][1]);
+      first_tri.push_back(e[k][2]);
     }
-    const Index edge = Index(c.edge_a.size()) - 1, t = e[k][2];
+    const Index edge = Index(edge_a.size()) - 1, t = e[k][2];
     for (int j = 0; j < 3; ++j)
-      if (c.tri_edge[3 * t + j] < 0) { c.tri_edge[3 * t + j] = edge; break; }
+      if (tri_edge[3 * t + j] < 0) { tri_edge[3 * t + j] = edge; break; }
   }
 }
 
@@ -125,7 +127,17 @@ void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& 
     c.colliders.push_back(std::move(ci));
   }
 
-  if (c.cloth_contact) build_contact_edges(m, c);
+  // Edges for the edge-edge tests: those of cloths that meet some cloth among themselves, every cloth's against
+  // collider meshes.
+  const bool meshes_present = !c.mesh_tri_collider.empty();
+  if (c.cloth_contact || meshes_present) {
+    build_edges(m.tri_index, m.tri_count, [&](Index t) { return meshes_present || c.tri_contact[t]; }, c.edge_a,
+                c.edge_b, c.edge_first_tri, c.tri_edge);
+    for (Index t : c.edge_first_tri) c.edge_contact.push_back(c.tri_contact[t]);
+  }
+  if (meshes_present)
+    build_edges(c.mesh_tri_index, Index(c.mesh_tri_collider.size()), [](Index) { return true; }, c.mesh_edge_a,
+                c.mesh_edge_b, c.mesh_edge_first_tri, c.mesh_tri_edge);
 
   // Teschner et al. 2003 §4: a cell near the size of a hashed box. A triangle's box is about an edge long
   // plus the thickness on each side, so the cell is mean edge + 2h (bench/collision_bench.cpp: 3.6x fewer

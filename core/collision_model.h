@@ -44,6 +44,9 @@ struct CollisionModel {
   std::vector<Index> mesh_tri_index; // into mesh vertices (3 * mesh tris)
   std::vector<Index> mesh_tri_collider;  // owning collider (mesh tris)
   std::vector<Vec3> frame_x;         // animated colliders' frames, m (sum of frame_count * vertices)
+  // Unique collider mesh edges (mesh vertex indices), reported by their lowest triangle like the cloth's.
+  std::vector<Index> mesh_edge_a, mesh_edge_b, mesh_edge_first_tri;  // (mesh edge count)
+  std::vector<Index> mesh_tri_edge;                                  // (3 * mesh tris)
   bool animated = false;
 
   // --- cloth side
@@ -53,9 +56,12 @@ struct CollisionModel {
   // cloth's selfCollision, a != b when both have clothCollision (cloth_count * cloth_count, symmetric)
   std::vector<std::uint8_t> cloth_pair;
   std::vector<std::uint8_t> tri_contact;  // 1 when the triangle's cloth collides with some cloth (tri_count)
-  std::vector<Index> edge_a, edge_b;   // unique edges of the tri_contact triangles (edge count)
+  // Unique cloth edges, for the edge-edge tests: those of tri_contact triangles, and, when a collider mesh
+  // exists, those of every cloth (continuous edge-edge against the collider's edges).
+  std::vector<Index> edge_a, edge_b;   // (edge count)
   std::vector<Index> edge_first_tri;   // lowest triangle holding the edge: the one that reports it (edge count)
-  std::vector<Index> tri_edge;         // the three edges of each tri_contact triangle, -1 otherwise (3 * tri_count)
+  std::vector<std::uint8_t> edge_contact;  // 1 when the edge's cloth collides with some cloth (edge count)
+  std::vector<Index> tri_edge;         // the three edges of each triangle holding listed edges, -1 otherwise (3 * tri_count)
   Real max_thickness = 0;              // m
   Real cell_size = 0;                  // spatial hash cell, m
 

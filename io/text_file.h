@@ -4,6 +4,7 @@
 namespace clothsim::io {
 
 // The whole file as text; throws Error(path, "cannot read ...; expected <what>") when it cannot be opened.
+// A name ending in .gz is decompressed (gzip, through zlib), so OBJ sequences stored compressed read as they are.
 std::string read_text_file(const std::string& path, const std::string& what);
 
 }  // namespace clothsim::io

@@ -2,6 +2,8 @@
 // Continuous vertex-triangle detection along the linear trajectories of a step (Provot 1997; Bridson, Fedkiw &
 // Anderson 2002 §6.2): the times t in [0, 1] at which the vertex and the triangle are coplanar are the roots of
 // the cubic ((b - a) x (c - a)) . (p - a) = 0; a root whose point lies inside the triangle is a collision.
+// Edge-edge detection (§4 of the same paper) solves the same cubic for the four edge endpoints; a root at which the
+// closest points of the two segments come within a tolerance is a collision.
 #include <cmath>
 
 #include "systems/proximity.h"
@@ -60,10 +62,10 @@ inline int cubic_roots_01(const Real k[4], Real roots[3]) {
   return found;
 }
 
-// Earliest time in [0, 1] at which vertex x[0] hits triangle x[1..3] (all moving linearly from x0 to x1), with
-// barycentrics accepted within [-delta, 1 + delta], delta = h / longest edge. False when it does not.
-// px: the proximity at the hit (barycentrics, normal at that time).
-inline bool vertex_triangle_ccd(const Vec3 x0[4], const Vec3 x1[4], Real h, Real& t_hit, TriangleProximity& px) {
+// Earliest coplanarity root t in [0, 1] of the four points moving linearly from x0 to x1 at which
+// accept(positions at t) holds. False when there is none.
+template <class Accept>
+inline bool first_coplanar_hit(const Vec3 x0[4], const Vec3 x1[4], Real& t_hit, Accept&& accept) {
   Real k[4], roots[3];
   coplanarity_cubic(x0, x1, k);
   const int n = cubic_roots_01(k, roots);
@@ -71,12 +73,31 @@ inline bool vertex_triangle_ccd(const Vec3 x0[4], const Vec3 x1[4], Real h, Real
     const Real t = roots[i];
     Vec3 x[4];
     for (int j = 0; j < 4; ++j) x[j] = (1 - t) * x0[j] + t * x1[j];
-    if (vertex_triangle_proximity(x[0], x[1], x[2], x[3], h, px) && std::abs(px.d) < h) {
+    if (accept(x)) {
       t_hit = t;
       return true;
     }
   }
   return false;
+}
+
+// Earliest time in [0, 1] at which vertex x[0] hits triangle x[1..3] (all moving linearly from x0 to x1), with
+// barycentrics accepted within [-delta, 1 + delta], delta = h / longest edge. False when it does not.
+// px: the proximity at the hit (barycentrics, normal at that time).
+inline bool vertex_triangle_ccd(const Vec3 x0[4], const Vec3 x1[4], Real h, Real& t_hit, TriangleProximity& px) {
+  return first_coplanar_hit(x0, x1, t_hit, [&](const Vec3* x) {
+    return vertex_triangle_proximity(x[0], x[1], x[2], x[3], h, px) && std::abs(px.d) < h;
+  });
+}
+
+// Earliest time in [0, 1] at which edge x[0]x[1] meets edge x[2]x[3] (all moving linearly from x0 to x1): a
+// coplanarity root (the same cubic: x[0] against the "triangle" x[1], x[2], x[3]) at which the segments' closest
+// points (clamped to the segments) are nearer than tol. px: the closest points at the hit. False when the edges
+// stay apart. A pair coplanar throughout the step (a cubic that is zero everywhere) is tested at t = 0 only.
+inline bool edge_edge_ccd(const Vec3 x0[4], const Vec3 x1[4], Real tol, Real& t_hit, EdgeProximity& px) {
+  return first_coplanar_hit(x0, x1, t_hit, [&](const Vec3* x) {
+    return edge_edge_proximity(x[0], x[1], x[2], x[3], px) && px.d < tol;
+  });
 }
 
 }  // namespace clothsim

@@ -91,6 +91,7 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
   });
   if (!c.cloth_contact) return;
   parallel_over(Index(c.edge_a.size()), contact_grain, [&](Index e) {
+    if (!c.edge_contact[e]) return;
     const Index a = c.edge_a[e], b = c.edge_b[e];
     const Real h = m.particle_thickness[a];
     Aabb q = swept_box(in.x[a], out.x[a]);
@@ -209,6 +210,87 @@ std::int64_t apply_accumulated(const Model& m, State& out, CollisionScratch& s) 
       [](std::int64_t a, std::int64_t b) { return a + b; });
 }
 
+// Edge-edge half of the continuous pass (Bridson et al. 2002 §4): edge x[0]x[1] of a cloth against edge x[2]x[3]
+// (another cloth edge, or a collider edge when `fixed`), moving linearly from x0 to x1 over the step. A crossing
+// sends the pair back to the side it came from: the normal is the two edges' cross product at the hit, pointed
+// the way the first edge lay at the start, and the end-of-step distance along it is restored to the thickness by
+// an inelastic impulse and a push spread over the cloth endpoints by their weights.
+void respond_edge_edge_ccd(const Model& m, const State& out, CollisionScratch& s, const Index* p, bool fixed,
+                           const Vec3 x0[4], const Vec3 x1[4], Real mu, Real h) {
+  const Real thick = m.particle_thickness[p[0]];
+  Real when;
+  EdgeProximity px;
+  if (!edge_edge_ccd(x0, x1, thick, when, px)) return;
+  auto at = [&](const Vec3* x) { return ((1 - px.s) * x[0] + px.s * x[1]) - ((1 - px.t) * x[2] + px.t * x[3]); };
+  const Vec3 gap0 = at(x0);
+  Vec3 n = ((1 - when) * (x0[1] - x0[0]) + when * (x1[1] - x1[0]))
+               .cross((1 - when) * (x0[3] - x0[2]) + when * (x1[3] - x1[2]));
+  if (!(n.squaredNorm() > 1e-20 * gap0.squaredNorm())) n = gap0;  // parallel edges: the start gap's direction
+  if (!(n.squaredNorm() > 0)) return;
+  n.normalize();
+  if (n.dot(gap0) < 0) n = -n;
+  const Real d = n.dot(at(x1));
+  if (!std::isfinite(d) || d >= thick) return;
+  const Real wt[4] = {1 - px.s, px.s, -(1 - px.t), -px.t};
+  const int count = fixed ? 2 : 4;
+  Vec3 v_fixed = Vec3::Zero();
+  if (fixed) v_fixed = ((1 - px.t) * (x1[2] - x0[2]) + px.t * (x1[3] - x0[3])) / h;
+  Vec3 dv[4], dx[4];
+  if (!inelastic_separation(p, wt, count, m, out.v, v_fixed, n, d, thick, mu, h, dv, dx)) return;
+  for (int k = 0; k < count; ++k) accumulate_contact(s, p[k], dv[k], dx[k]);
+}
+
+// Every cloth edge against the edges of the triangles its swept box meets: self-colliding cloths' edges
+// against each other (each pair once, from the lower edge id), and every cloth edge against collider edges.
+void continuous_edges(const Model& m, const State& in, const State& out, CollisionScratch& s, BroadMode mode, Real h) {
+  const CollisionModel& c = m.collision;
+  parallel_over(Index(c.edge_a.size()), contact_grain, [&](Index e) {
+    const Index a = c.edge_a[e], b = c.edge_b[e];
+    const Real tol = m.particle_thickness[a];
+    Aabb q = swept_box(in.x[a], out.x[a]);
+    grow(q, in.x[b]);
+    grow(q, out.x[b]);
+    Aabb qi = q;
+    qi.lo.array() -= tol;
+    qi.hi.array() += tol;
+    const Index cloth = c.particle_cloth[a];
+    for_each_candidate(m, s, mode, q, [&](Index slot) {
+      const Index prim = c.prim[slot];
+      const bool fixed = prim >= m.tri_count;
+      if (!fixed && !c.edge_contact[e]) return;
+      for (int k = 0; k < 3; ++k) {
+        Index p[4] = {a, b, 0, 0};
+        Vec3 x0[4] = {in.x[a], in.x[b]}, x1[4] = {out.x[a], out.x[b]};
+        Real mu;
+        if (fixed) {
+          const Index tri = prim - m.tri_count, g = c.mesh_tri_edge[3 * tri + k];
+          if (c.mesh_edge_first_tri[g] != tri) continue;
+          p[2] = c.mesh_edge_a[g];
+          p[3] = c.mesh_edge_b[g];
+          x0[2] = s.collider_x0[p[2]], x0[3] = s.collider_x0[p[3]];
+          x1[2] = s.collider_x1[p[2]], x1[3] = s.collider_x1[p[3]];
+          mu = 0.5 * (m.cloths[cloth].friction + c.colliders[c.mesh_tri_collider[tri]].friction);
+        } else {
+          const Index f = c.tri_edge[3 * prim + k];
+          if (f <= e || c.edge_first_tri[f] != prim) continue;
+          p[2] = c.edge_a[f];
+          p[3] = c.edge_b[f];
+          if (p[2] == a || p[2] == b || p[3] == a || p[3] == b) continue;
+          if (!c.cloths_collide(cloth, c.particle_cloth[p[2]])) continue;
+          x0[2] = in.x[p[2]], x0[3] = in.x[p[3]];
+          x1[2] = out.x[p[2]], x1[3] = out.x[p[3]];
+          mu = 0.5 * (m.cloths[cloth].friction + m.cloths[c.particle_cloth[p[2]]].friction);
+        }
+        Aabb other = swept_box(x0[2], x1[2]);
+        grow(other, x0[3]);
+        grow(other, x1[3]);
+        if (!boxes_overlap(qi, other)) continue;
+        respond_edge_edge_ccd(m, out, s, p, fixed, x0, x1, mu, h);
+      }
+    });
+  });
+}
+
 // The continuous pass, last (Bridson et al. 2002 §6.2): each cloth vertex against the triangles its swept box
 // meets, along the step's linear trajectories; a hit is sent back to the side the vertex came from (for collider
 // meshes, only hits from the outside count: they are one-sided).
@@ -236,6 +318,7 @@ std::int64_t collide_continuous(const Model& m, const State& in, State& out, Col
       respond_vertex_triangle(m, out, s, i, prim, t, px.w, n, d, h, true);
     });
   });
+  continuous_edges(m, in, out, s, mode, h);
   return apply_accumulated(m, out, s);
 }
 
@@ -318,7 +401,12 @@ void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h)
     if (iter == 0) s.contacts_found += found;
     if (found == 0) break;
   }
-  if (broad && c.iterations > 0) collide_continuous(m, in, out, s, mode, h);
+  // The continuous pass repeats too (its responses are averaged per vertex, so one pass may leave part of a
+  // crossing), on boxes rebuilt around the corrected positions, until a pass finds nothing.
+  for (int pass = 0; broad && pass < c.iterations; ++pass) {
+    if (pass > 0) build_broad_phase(m, in, out, s);
+    if (collide_continuous(m, in, out, s, mode, h) == 0) break;
+  }
   ws.seconds_collide += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 

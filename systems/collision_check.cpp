@@ -108,4 +108,44 @@ Index count_intersecting_triangles(const Model& m, std::span<const Vec3> x) {
   return reduce_vertices(m.tri_count, Index(0), per_tri, [](Index a, Index b) { return a + b; });
 }
 
+Index count_collider_crossings(const Model& m, std::span<const Vec3> x, const CollisionScratch& s, Index c) {
+  const ColliderInfo& ci = m.collision.colliders[c];
+  if (ci.shape != ColliderShape::mesh && ci.shape != ColliderShape::sequence) return 0;
+  // Collider triangles sorted by the low x of their boxes; a cloth triangle visits those whose low x lies within
+  // [its low x - the widest collider triangle, its high x], then tests the boxes in full.
+  const Index n = ci.tri_end - ci.tri_begin;
+  std::vector<Aabb> box(n);
+  std::vector<Index> order(n);
+  Real widest = 0;
+  for (Index k = 0; k < n; ++k) {
+    const Index* v = &m.collision.mesh_tri_index[3 * (ci.tri_begin + k)];
+    const Vec3 &a = s.collider_x1[v[0]], &b = s.collider_x1[v[1]], &cc = s.collider_x1[v[2]];
+    box[k] = {a.cwiseMin(b).cwiseMin(cc), a.cwiseMax(b).cwiseMax(cc)};
+    widest = std::max(widest, box[k].hi.x() - box[k].lo.x());
+  }
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](Index a, Index b) { return box[a].lo.x() < box[b].lo.x() || (box[a].lo.x() == box[b].lo.x() && a < b); });
+  std::vector<Real> sorted_lo(n);
+  for (Index k = 0; k < n; ++k) sorted_lo[k] = box[order[k]].lo.x();
+  auto per_tri = [&](Index t) -> Index {
+    const Index* p = &m.tri_index[3 * t];
+    const Aabb own{x[p[0]].cwiseMin(x[p[1]]).cwiseMin(x[p[2]]), x[p[0]].cwiseMax(x[p[1]]).cwiseMax(x[p[2]])};
+    Index hits = 0;
+    for (auto it = std::lower_bound(sorted_lo.begin(), sorted_lo.end(), own.lo.x() - widest);
+         it != sorted_lo.end() && *it <= own.hi.x(); ++it) {
+      const Index k = order[it - sorted_lo.begin()];
+      if (!boxes_overlap(own, box[k])) continue;
+      const Index* v = &m.collision.mesh_tri_index[3 * (ci.tri_begin + k)];
+      const Vec3 &a = s.collider_x1[v[0]], &b = s.collider_x1[v[1]], &cc = s.collider_x1[v[2]];
+      bool cross = false;
+      for (int e = 0; e < 3 && !cross; ++e)
+        cross = segment_crosses_triangle(x[p[e]], x[p[(e + 1) % 3]], a, b, cc) ||
+                segment_crosses_triangle(s.collider_x1[v[e]], s.collider_x1[v[(e + 1) % 3]], x[p[0]], x[p[1]], x[p[2]]);
+      hits += cross;
+    }
+    return hits;
+  };
+  return reduce_vertices(m.tri_count, Index(0), per_tri, [](Index a, Index b) { return a + b; });
+}
+
 }  // namespace clothsim

@@ -77,4 +77,34 @@ inline bool cloth_impulse(const Index* p, const Real* wt, int count, const Model
   return true;
 }
 
+// The continuous pass's response to a pair that crossed during the step (up to four cloth particles with signed
+// weights wt; v_fixed: the velocity of an immovable other side, a collider edge's point): an inelastic impulse
+// that stops the approach along n (relative normal velocity to zero, Coulomb friction on the tangential part),
+// and a position-only push that leaves the pair `thickness` apart along n at the end of the step, both spread
+// over the particles by wt_i inv_m_i / sum wt^2 inv_m (Bridson et al. 2002 §7.1). A velocity that restored the
+// whole distance would fling the cloth away (thickness / step: metres per second); the push does not.
+inline bool inelastic_separation(const Index* p, const Real* wt, int count, const Model& m,
+                                 const std::vector<Vec3>& v, const Vec3& v_fixed, const Vec3& n, Real d,
+                                 Real thickness, Real mu, Real h, Vec3* dv_out, Vec3* dx_out) {
+  Vec3 rel = -v_fixed;
+  Real denom = 0;
+  for (int k = 0; k < count; ++k) {
+    rel += wt[k] * v[p[k]];
+    denom += wt[k] * wt[k] * m.particle_inv_mass[p[k]];
+  }
+  if (!(denom > 0) || !(d < thickness)) return false;
+  const Real vn = rel.dot(n), dvn = std::max(Real(0), -vn);
+  const Vec3 vt = rel - vn * n;
+  const Real vt_len = vt.norm();
+  Vec3 change = dvn * n;
+  if (vt_len > 0) change -= std::min(vt_len, mu * dvn) / vt_len * vt;
+  const Real push = std::max(Real(0), thickness - d - h * dvn);
+  for (int k = 0; k < count; ++k) {
+    const Real share = wt[k] * m.particle_inv_mass[p[k]] / denom;
+    dv_out[k] = share * change;
+    dx_out[k] = h * dv_out[k] + share * push * n;
+  }
+  return true;
+}
+
 }  // namespace clothsim

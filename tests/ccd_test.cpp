@@ -42,3 +42,42 @@ TEST_CASE("vertex-triangle CCD with a moving triangle: a rising triangle meets a
   REQUIRE(vertex_triangle_ccd(x0, x1, 0.01, t, hit));
   CHECK(t == doctest::Approx(0.5));
 }
+
+TEST_CASE("edge-edge CCD: a falling edge crosses a resting one at the hand-computed time and point") {
+  // Edge P rests on the x axis from (0,0,0) to (1,0,0). Edge Q runs along z from (0.25, y, -1) to (0.25, y, 3)
+  // with y = 0.3 - 0.4 t: coplanar at t = 0.75, where the lines cross at x = 0.25 (s = 0.25 along P) and z = 0
+  // (u = 0.25 along Q). At the end (y = -0.1) the edges are 0.1 apart: the end-of-step proximity sees nothing.
+  const Vec3 x0[4] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.25, 0.3, -1), Vec3(0.25, 0.3, 3)};
+  const Vec3 x1[4] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.25, -0.1, -1), Vec3(0.25, -0.1, 3)};
+  Real t = -1;
+  EdgeProximity hit;
+  REQUIRE(edge_edge_ccd(x0, x1, 0.01, t, hit));
+  CHECK(t == doctest::Approx(0.75));
+  CHECK(hit.s == doctest::Approx(0.25));
+  CHECK(hit.t == doctest::Approx(0.25));
+  CHECK(hit.d == doctest::Approx(0).epsilon(1e-9));
+  EdgeProximity end;
+  REQUIRE(edge_edge_proximity(x1[0], x1[1], x1[2], x1[3], end));
+  CHECK(end.d == doctest::Approx(0.1));
+  // The same motion with Q past P's end (x = 1.5): coplanar at t = 0.75 too, but the segments stay 0.5 apart.
+  Vec3 y0[4] = {x0[0], x0[1], x0[2] + Vec3(1.25, 0, 0), x0[3] + Vec3(1.25, 0, 0)};
+  Vec3 y1[4] = {x1[0], x1[1], x1[2] + Vec3(1.25, 0, 0), x1[3] + Vec3(1.25, 0, 0)};
+  CHECK_FALSE(edge_edge_ccd(y0, y1, 0.01, t, hit));
+}
+
+TEST_CASE("edge-edge CCD with both edges moving: they meet at t = 1/3") {
+  // P falls from y = 0.5 at 1.5 per step, Q rises from y = -0.5 at 1.5 per step, crossed at right angles
+  // through the origin: heights meet when 0.5 - 1.5 t = -0.5 + 1.5 t, t = 1/3, both at their midpoints.
+  const Vec3 x0[4] = {Vec3(-1, 0.5, 0), Vec3(1, 0.5, 0), Vec3(0, -0.5, -1), Vec3(0, -0.5, 1)};
+  const Vec3 x1[4] = {Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(0, 1, -1), Vec3(0, 1, 1)};
+  Real t = -1;
+  EdgeProximity hit;
+  REQUIRE(edge_edge_ccd(x0, x1, 1e-6, t, hit));
+  CHECK(t == doctest::Approx(1.0 / 3));
+  CHECK(hit.s == doctest::Approx(0.5));
+  CHECK(hit.t == doctest::Approx(0.5));
+  // Parallel edges sliding past each other in parallel planes never meet.
+  const Vec3 p0[4] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0.1, 0.2), Vec3(1, 0.1, 0.2)};
+  const Vec3 p1[4] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 0.1, -0.2), Vec3(1.5, 0.1, -0.2)};
+  CHECK_FALSE(edge_edge_ccd(p0, p1, 0.01, t, hit));
+}

@@ -208,18 +208,6 @@ TEST_CASE("self-collision: in the fold scene no two non-adjacent triangles inter
   CHECK(lowest_top < 0.2);  // it did fall over: the sheet started 0.4 m tall
 }
 
-TEST_CASE("self-collision run gives the same bytes at 1 and 2 threads, with hash and with BVH") {
-  for (const char* broad : {"hash", "bvh"}) {
-    std::vector<Vec3> result[2];
-    for (int t = 1; t <= 2; ++t) {
-      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, t);
-      auto sc = load_fold(broad);
-      run_frames(sc, [&](int, const Model&, const State& s, const Workspace&) { result[t - 1] = s.x; });
-    }
-    REQUIRE(result[0].size() == result[1].size());
-    CHECK(std::memcmp(result[0].data(), result[1].data(), result[0].size() * sizeof(Vec3)) == 0);
-  }
-}
 
 TEST_CASE("hash, BVH and brute force find the same proximities on random configurations") {
   const auto dir = scratch_dir("collision_broad");
@@ -268,4 +256,154 @@ TEST_CASE("a scene without colliders and self-collision builds nothing for colli
   CHECK(m.collision.prim.empty());
   CHECK(m.collision.particle_cloth.empty());
   CHECK(make_workspace(m).collision.acc_count.empty());
+}
+
+namespace {
+// A thin closed bar along z (a triangular prism 4 mm wide, 4 mm tall, ridge at y = 0, x = 0, 1 m long) under a
+// coarse 4 x 4 cloth whose vertices sit at x = +-0.1 and +-0.3: no cloth vertex ever comes near the bar's
+// triangles, so only the cloth edges meeting the ridge edge (edge-edge CCD) can hold the cloth up.
+const char* bar_obj = R"(v -0.002 -0.004 -0.5
+v 0.002 -0.004 -0.5
+v 0 0 -0.5
+v -0.002 -0.004 0.5
+v 0.002 -0.004 0.5
+v 0 0 0.5
+f 1 3 2
+f 4 5 6
+f 1 2 5
+f 1 5 4
+f 2 3 6
+f 2 6 5
+f 3 1 4
+f 3 4 6
+)";
+
+test::LoadedCollisionScene load_bar(const char* broad) {
+  const auto dir = scratch_dir(std::string("collision_bar_") + broad);
+  write_text(dir / "bar.obj", bar_obj);
+  char xml[1024];
+  std::snprintf(xml, sizeof xml, R"(<scene>
+  <simulation timestep="0.001" fps="50" startFrame="1" endFrame="16" broadPhase="%s"/>
+  <static name="bar" obj="bar.obj" friction="0.9"/>
+  <cloth name="c" grid="4 4" size="0.6 0.6" translate="0 0.05 0" friction="0.9">
+    <density value="0.5"/><stiffness value="100"/><damping value="0.01"/><thickness value="0.005"/>
+  </cloth></scene>)", broad);
+  write_text(dir / "s.xml", xml);
+  return load_collision_scene(dir / "s.xml");
+}
+
+// Cloth edges that span the bar's plane x = 0 within its length and pass it below the ridge (y < 0): on the
+// wrong side of the ridge edge, inside or under the bar. Also the lowest such crossing height.
+Index edges_under_ridge(const Model& m, const State& s, Real& lowest) {
+  Index wrong = 0;
+  for (Index t = 0; t < m.tri_count; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& a = s.x[m.tri_index[3 * t + k]];
+      const Vec3& b = s.x[m.tri_index[3 * t + (k + 1) % 3]];
+      if ((a.x() < 0) == (b.x() < 0)) continue;
+      const Vec3 p = a + (0 - a.x()) / (b.x() - a.x()) * (b - a);
+      if (std::abs(p.z()) > 0.5) continue;
+      lowest = std::min(lowest, p.y());
+      if (p.y() < 0) ++wrong;
+    }
+  return wrong;
+}
+}  // namespace
+
+TEST_CASE("edge-edge CCD: a coarse cloth falls onto a thin bar between its vertices and stays on the ridge") {
+  for (const char* broad : {"hash", "bvh"}) {
+    const std::string phase = broad;
+    CAPTURE(phase);
+    auto sc = load_bar(broad);
+    REQUIRE(sc.built.model.collision.colliders[0].closed);
+    Index wrong = 0;
+    Real lowest_crossing = 1, lowest_vertex = 1;
+    run_frames(sc, [&](int, const Model& m, const State& s, const Workspace&) {
+      wrong += edges_under_ridge(m, s, lowest_crossing);
+      for (const Vec3& p : s.x) lowest_vertex = std::min(lowest_vertex, p.y());
+    });
+    CHECK(wrong == 0);
+    CHECK(lowest_crossing > 0);
+    // The cloth did land and drape: its outer vertices hang below the ridge (a free fall over the 0.3 s would
+    // take it 0.44 m down; held at the middle, the sides fold down by less than their 0.3 m width).
+    CHECK(lowest_vertex < -0.05);
+    CHECK(lowest_vertex > -0.31);
+  }
+}
+
+TEST_CASE("edge-edge CCD: a strip's edge swept through another strip within one step is sent back") {
+  // Strip B lies flat at y = 0 over x in [0, 0.2], z in [-0.1, 0.1]. Strip A stands upright in the plane z = 0,
+  // its bottom edge from x = -0.1 to 0.3 at y = 0.01, and drops 2 cm within one step: the bottom edge crosses
+  // B's three edges at x = 0, 0.1 (the diagonal) and 0.2 while no vertex passes through a triangle.
+  const auto dir = scratch_dir("collision_strips");
+  write_text(dir / "s.xml", R"(<scene>
+  <simulation timestep="0.001" fps="100" startFrame="1" endFrame="2" collisionIterations="2"/>
+  <cloth name="b" grid="2 2" size="0.2 0.2" translate="0.1 0 0" selfCollision="true">
+    <thickness value="0.001"/></cloth>
+  <cloth name="a" grid="2 2" size="0.4 0.2" rotate="90 0 0" translate="0.1 0.11 0" selfCollision="true">
+    <thickness value="0.001"/></cloth>
+</scene>)");
+  std::vector<Vec3> result[2];
+  for (int threads = 1; threads <= 2; ++threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    auto sc = load_collision_scene(dir / "s.xml");
+    const Model& m = sc.built.model;
+    const State in = sc.built.state;
+    const ClothInfo& a = m.cloths[1];
+    REQUIRE(a.particle_end - a.particle_begin == 4);
+    Real bottom = 1;
+    for (Index i = a.particle_begin; i < a.particle_end; ++i) bottom = std::min(bottom, in.x[i].y());
+    REQUIRE(bottom == doctest::Approx(0.01));
+    const Real h = 0.001;
+    State out = in;
+    for (Index i = a.particle_begin; i < a.particle_end; ++i) {
+      out.x[i].y() -= 0.02;
+      out.v[i] = Vec3(0, -0.02 / h, 0);
+    }
+    REQUIRE(count_intersecting_triangles(m, out.x) > 0);  // uncorrected, A's bottom edge lies through B
+    Workspace ws = make_workspace(m);
+    collide(m, in, out, ws, h);
+    CHECK(count_intersecting_triangles(m, out.x) == 0);
+    // Both sides moved: A's bottom edge ends above B's plane, which was pushed down.
+    Real a_bottom = 1, b_top = -1;
+    for (Index i = a.particle_begin; i < a.particle_end; ++i) a_bottom = std::min(a_bottom, out.x[i].y());
+    for (Index i = m.cloths[0].particle_begin; i < m.cloths[0].particle_end; ++i) b_top = std::max(b_top, out.x[i].y());
+    CHECK(a_bottom > b_top);
+    CHECK(b_top < 0);
+    result[threads - 1] = out.x;
+  }
+  CHECK(std::memcmp(result[0].data(), result[1].data(), result[0].size() * sizeof(Vec3)) == 0);
+}
+
+TEST_CASE("collision runs give the same bytes at 1 and 2 threads: self-collision and a collider's edges, hash and BVH") {
+  for (auto load : {load_fold, load_bar})
+    for (const char* broad : {"hash", "bvh"}) {
+      std::vector<Vec3> result[2];
+      for (int t = 1; t <= 2; ++t) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, t);
+        auto sc = load(broad);
+        run_frames(sc, [&](int, const Model&, const State& s, const Workspace&) { result[t - 1] = s.x; });
+      }
+      REQUIRE(result[0].size() == result[1].size());
+      CHECK(std::memcmp(result[0].data(), result[1].data(), result[0].size() * sizeof(Vec3)) == 0);
+    }
+}
+
+TEST_CASE("--stats check for open collider meshes: cloth triangles crossing a collider triangle, counted by hand") {
+  // An open collider, one triangle in y = 0 covering x + z <= 1; an upright 2-triangle cloth in the plane
+  // z = 0.3 over x in [0.1, 0.5], y in [-0.1, 0.1] cuts through it: both cloth triangles cross it (2 pairs).
+  // Lifted by 0.2 m it crosses nothing.
+  const auto dir = scratch_dir("collision_open_crossings");
+  write_text(dir / "floor.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 3 2\n");
+  for (const char* y : {"0", "0.2"}) {
+    write_text(dir / "s.xml", std::string(R"(<scene>
+  <static name="floor" obj="floor.obj"/>
+  <cloth name="c" grid="2 2" size="0.4 0.2" rotate="90 0 0" translate="0.3 )") + y + R"( 0.3"/></scene>)");
+    auto sc = load_collision_scene(dir / "s.xml");
+    const Model& m = sc.built.model;
+    REQUIRE_FALSE(m.collision.colliders[0].closed);
+    const Workspace ws = make_workspace(m);
+    CHECK(count_inside(m, sc.built.state.x, ws.collision, 0) == 0);  // not defined for an open mesh
+    CHECK(count_collider_crossings(m, sc.built.state.x, ws.collision, 0) == (std::string(y) == "0" ? 2 : 0));
+  }
 }

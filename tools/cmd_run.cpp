@@ -64,7 +64,8 @@ long long peak_rss_bytes() {
   return static_cast<long long>(u.ru_maxrss) * 1024;
 }
 
-// Contacts of the frame's steps, and the independent checks: distances, vertices inside, crossing triangles.
+// Contacts of the frame's steps, and the independent checks: distances, vertices inside (closed colliders),
+// cloth triangles crossing an open collider mesh, crossing cloth triangles.
 void add_collision_stats(const Model& model, const State& state, Workspace& ws, io::FrameStats& f) {
   f.contacts = ws.collision.contacts_found;
   ws.collision.contacts_found = 0;
@@ -72,6 +73,9 @@ void add_collision_stats(const Model& model, const State& state, Workspace& ws, 
   for (Index c = 0; c < Index(model.collision.colliders.size()); ++c) {
     f.collider_distance.push_back(min_collider_distance(model, state.x, ws.collision, c));
     f.penetrations += count_inside(model, state.x, ws.collision, c);
+    const ColliderInfo& ci = model.collision.colliders[c];
+    const bool open_mesh = (ci.shape == ColliderShape::mesh || ci.shape == ColliderShape::sequence) && !ci.closed;
+    if (open_mesh) f.penetrations += count_collider_crossings(model, state.x, ws.collision, c);
   }
 }
 
