@@ -85,6 +85,7 @@ struct CollisionModel {
 struct HashScratch {
   Index table_size = 0;                 // a prime near twice the entry capacity
   Index entry_count = 0;
+  Real inv_cell = 0;                    // 1 / this step's cell, m^-1: the model's cell_size unless enlarged
   std::vector<Index> prim_cells;        // cells of each prim, then its first entry (prim count + 1)
   std::vector<std::int64_t> entry_cell; // packed cell coordinates, in bucket order (entry capacity)
   std::vector<Index> entry_prim;        // (entry capacity)

@@ -24,7 +24,7 @@ void grow(Aabb& b, const Vec3& p) { b.lo = b.lo.cwiseMin(p); b.hi = b.hi.cwiseMa
 template <class Visit>
 void for_each_candidate(const Model& m, const CollisionScratch& s, BroadMode mode, const Aabb& q, Visit&& visit) {
   switch (mode) {
-    case BroadMode::hash: query_spatial_hash(m.collision, s, q, visit); break;
+    case BroadMode::hash: query_spatial_hash(s, q, visit); break;
     case BroadMode::bvh: query_bvh(m.collision, s, q, visit); break;
     case BroadMode::brute:
       for (Index slot = 0; slot < Index(m.collision.prim.size()); ++slot)

@@ -1,8 +1,11 @@
 #include "systems/spatial_hash.h"
 
+#include <tbb/parallel_reduce.h>
 #include <tbb/parallel_scan.h>
 
+#include <algorithm>
 #include <atomic>
+#include <functional>
 
 #include "systems/parallel.h"
 
@@ -40,19 +43,47 @@ Index next_prime(Index n) {
   return n;
 }
 
+namespace {
+
+// Cells the prim's clipped box covers at 1/inv, saturated at 2^32 (a box can span 2^21 cells an axis).
+std::int64_t cells_of(const CollisionScratch& s, Index slot, Real inv) {
+  Aabb box;
+  if (!clip(s.prim_box[slot], s.query_bounds, box)) return 0;
+  const Cell lo = cell_of(box.lo, inv), hi = cell_of(box.hi, inv);
+  const double n = double(hi.i - lo.i + 1) * double(hi.j - lo.j + 1) * double(hi.k - lo.k + 1);
+  return std::int64_t(std::min(n, 4294967296.0));
+}
+
+// The cell this step hashes with: the model's, doubled until the entries fit entry_budget. A cloth that blows up
+// within a frame swells its boxes before the frame's divergence check (exit 3) can stop the run; at the model's
+// cell one box could cover 2^63 cells, and the entry arrays grew to 11.8 GB before the process was killed. Any
+// cell size finds the same pairs (only the candidates per cell grow), and the choice depends on integer counts
+// alone, so it is the same at any thread count. A sane step needs about 7 entries a prim.
+Real hash_inv_cell(const CollisionModel& c, const CollisionScratch& s) {
+  const Index prims = Index(c.prim.size());
+  const std::int64_t entry_budget = 64 * std::int64_t(prims) + 65536;
+  Real inv = 1 / c.cell_size;
+  for (int doubling = 0; doubling < 64; ++doubling, inv /= 2) {
+    const std::int64_t total = tbb::parallel_reduce(
+        tbb::blocked_range<Index>(0, prims, prim_grain), std::int64_t(0),
+        [&](const tbb::blocked_range<Index>& r, std::int64_t sum) {
+          for (Index slot = r.begin(); slot != r.end(); ++slot) sum += cells_of(s, slot, inv);
+          return sum;
+        },
+        std::plus<std::int64_t>());
+    if (total <= entry_budget) break;
+  }
+  return inv;
+}
+
+}  // namespace
+
 void build_spatial_hash(const CollisionModel& c, CollisionScratch& s) {
   HashScratch& hs = s.hash;
   const Index prims = Index(c.prim.size());
-  const Real inv = 1 / c.cell_size;
-  parallel_over(prims, prim_grain, [&](Index slot) {
-    Aabb box;
-    Index n = 0;
-    if (clip(s.prim_box[slot], s.query_bounds, box)) {
-      const Cell lo = cell_of(box.lo, inv), hi = cell_of(box.hi, inv);
-      n = Index((hi.i - lo.i + 1) * (hi.j - lo.j + 1) * (hi.k - lo.k + 1));
-    }
-    hs.prim_cells[slot] = n;
-  });
+  const Real inv = hash_inv_cell(c, s);
+  hs.inv_cell = inv;
+  parallel_over(prims, prim_grain, [&](Index slot) { hs.prim_cells[slot] = Index(cells_of(s, slot, inv)); });
   const Index entries = exclusive_scan(hs.prim_cells, prims);
   hs.prim_cells[prims] = entries;
   hs.entry_count = entries;

@@ -38,18 +38,19 @@ inline bool clip(const Aabb& box, const Aabb& bounds, Aabb& out) {
 }
 }  // namespace spatial_hash_detail
 
-// Hashes every prim of c.prim by the cells its box s.prim_box covers within s.query_bounds. Grows the entry
-// arrays only when a step needs more entries than any before.
+// Hashes every prim of c.prim by the cells its box s.prim_box covers within s.query_bounds, with the model's
+// cell or, when that would take over 64 entries a prim, a larger one (s.hash.inv_cell). Grows the entry arrays
+// only when a step needs more entries than any before.
 void build_spatial_hash(const CollisionModel& c, CollisionScratch& s);
 
 // Calls visit(slot) once for every prim whose box overlaps q (q within s.query_bounds). A pair found in several
 // cells is reported only from the cell holding the low corner of the two boxes' intersection.
 template <class Visit>
-void query_spatial_hash(const CollisionModel& c, const CollisionScratch& s, const Aabb& q, Visit&& visit) {
+void query_spatial_hash(const CollisionScratch& s, const Aabb& q, Visit&& visit) {
   using namespace spatial_hash_detail;
   const HashScratch& hs = s.hash;
   if (hs.table_size == 0) return;
-  const Real inv = 1 / c.cell_size;
+  const Real inv = hs.inv_cell;
   const Cell lo = cell_of(q.lo, inv), hi = cell_of(q.hi, inv);
   for (std::int64_t i = lo.i; i <= hi.i; ++i)
     for (std::int64_t j = lo.j; j <= hi.j; ++j)

@@ -247,6 +247,35 @@ TEST_CASE("hash, BVH and brute force find the same proximities on random configu
   CHECK(total > 100);
 }
 
+TEST_CASE("a cloth blown up within a step: the hash enlarges its cell to stay within budget, same proximities") {
+  // A diverging cloth swells its swept boxes before the frame's divergence check can stop the run; at the
+  // model's cell one box would cover ~1e20 cells (11.8 GB of entries were seen before the process was killed).
+  const auto dir = scratch_dir("collision_blown");
+  write_text(dir / "s.xml", R"(<scene>
+  <cloth name="c" grid="20 20" size="0.6 0.6" selfCollision="true"><thickness value="0.02"/></cloth>
+</scene>)");
+  auto sc = load_collision_scene(dir / "s.xml");
+  const Model& m = sc.built.model;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<Real> small(-0.01, 0.01);
+  State in = sc.built.state, out = in;
+  for (std::size_t i = 0; i < in.x.size(); ++i) {
+    in.x[i] += Vec3(0.2 * small(rng), 4 * small(rng), 0.2 * small(rng));
+    out.x[i] = in.x[i] + Vec3(small(rng), small(rng), small(rng));
+  }
+  out.x[57] += Vec3(3e4, -2e4, 1e4);  // one vertex flung 37 km within the step
+  Workspace ws = make_workspace(m);
+  build_broad_phase(m, in, out, ws.collision);
+  const Index prims = Index(m.collision.prim.size());
+  INFO("entries " << ws.collision.hash.entry_count << " for " << prims << " prims");
+  CHECK(ws.collision.hash.entry_count <= 64 * prims + 65536);
+  CHECK(ws.collision.hash.inv_cell < 1 / m.collision.cell_size);
+  const auto by_hash = list_proximities(m, in, out, ws.collision, BroadMode::hash);
+  const auto by_brute = list_proximities(m, in, out, ws.collision, BroadMode::brute);
+  CHECK(by_hash == by_brute);
+  CHECK(by_brute.size() > 50);
+}
+
 TEST_CASE("a scene without colliders and self-collision builds nothing for collisions") {
   const auto dir = scratch_dir("collision_none");
   write_text(dir / "s.xml", R"(<scene><cloth name="c" grid="4 4"/></scene>)");
