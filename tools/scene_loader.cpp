@@ -6,14 +6,14 @@
 #include "io/cloth_maps.h"
 #include "io/obj_reader.h"
 #include "io/scene_xml.h"
-#include "tools/study_run.h"
+#include "tools/cpu_clock.h"
 
 namespace clothsim::cli {
 
 LoadedScene load_scene(const std::string& path) {
   using clock = std::chrono::steady_clock;
   LoadedScene s;
-  const double c0 = cpu_now();
+  const double c0 = process_cpu_seconds();
   const auto t0 = clock::now();
   s.desc = io::read_scene(path);
   std::vector<MeshData> meshes;
@@ -21,13 +21,13 @@ LoadedScene load_scene(const std::string& path) {
   const std::vector<ColliderMeshes> colliders = io::read_colliders(s.desc);
   for (std::size_t c = 0; c < meshes.size(); ++c) meshes[c].params = io::sample_cloth_maps(s.desc, s.desc.cloths[c], meshes[c]);
   const auto t1 = clock::now();
-  const double c1 = cpu_now();
+  const double c1 = process_cpu_seconds();
   s.built = build_model(s.desc, std::move(meshes));  // consumed: a large mesh is not held twice
   build_collision(s.desc, colliders, s.built.state.x, s.built.model);
   s.load_seconds = std::chrono::duration<double>(t1 - t0).count();
   s.topology_seconds = std::chrono::duration<double>(clock::now() - t1).count();
   s.load_cpu_seconds = c1 - c0;
-  s.topology_cpu_seconds = cpu_now() - c1;
+  s.topology_cpu_seconds = process_cpu_seconds() - c1;
   return s;
 }
 

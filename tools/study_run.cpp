@@ -4,7 +4,6 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <limits>
 #include <thread>
 #include <utility>
@@ -15,6 +14,7 @@
 #include "systems/diagnostics.h"
 #include "systems/step.h"
 #include "tools/cli_args.h"
+#include "tools/cpu_clock.h"
 
 namespace clothsim::cli {
 
@@ -33,12 +33,6 @@ std::string csv_number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.12g", v);
   return buf;
-}
-
-double cpu_now() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
 void run_tasks_in_parallel(std::size_t count, const std::function<void(std::size_t)>& task) {
@@ -63,7 +57,7 @@ TimedRun timed_run(const Model& base, const State& initial, Integrator integrato
   for (int r = 0; r < repeats; ++r) {
     State state = initial, scratch = initial;
     ws.force_evaluations = 0;
-    const double t0 = cpu_now();
+    const double t0 = thread_cpu_seconds();
     std::int64_t k = 0;
     bool finite = true;
     for (; k < steps; ++k) {
@@ -72,7 +66,7 @@ TimedRun timed_run(const Model& base, const State& initial, Integrator integrato
       // A diverging run is cut short; checked sparsely so the check costs nothing measurable.
       if ((k & 1023) == 1023 && !(finite = state_is_finite(state))) { ++k; break; }
     }
-    const double seconds = cpu_now() - t0;
+    const double seconds = thread_cpu_seconds() - t0;
     finite = finite && state_is_finite(state);
     if (r == 0 || seconds < best.cpu_seconds) {
       best.state = std::move(state);
