@@ -45,11 +45,22 @@ Index next_prime(Index n) {
 
 namespace {
 
-// Cells the prim's clipped box covers at 1/inv, saturated at 2^32 (a box can span 2^21 cells an axis).
-std::int64_t cells_of(const CollisionScratch& s, Index slot, Real inv) {
+// The cells [lo, hi] the prim's clipped box covers at 1/inv; false for a box outside the query bounds or beyond
+// the representable cells (+-2^20 an axis: a cloth blown far away or to infinity, where cell_of would clamp and
+// no cell size would shrink the count). Both passes of build_spatial_hash ask this, so they agree on every prim,
+// and a larger cell brings every finite box within range, so the budget of hash_inv_cell is always met.
+bool hashed_cells(const CollisionScratch& s, Index slot, Real inv, Cell& lo, Cell& hi) {
   Aabb box;
-  if (!clip(s.prim_box[slot], s.query_bounds, box)) return 0;
-  const Cell lo = cell_of(box.lo, inv), hi = cell_of(box.hi, inv);
+  if (!clip(s.prim_box[slot], s.query_bounds, box) || !within_cell_range(box, inv)) return false;
+  lo = cell_of(box.lo, inv);
+  hi = cell_of(box.hi, inv);
+  return true;
+}
+
+// Cells the prim covers at 1/inv, saturated at 2^32 (a finite box can span 2^21 cells an axis).
+std::int64_t cells_of(const CollisionScratch& s, Index slot, Real inv) {
+  Cell lo, hi;
+  if (!hashed_cells(s, slot, inv, lo, hi)) return 0;
   const double n = double(hi.i - lo.i + 1) * double(hi.j - lo.j + 1) * double(hi.k - lo.k + 1);
   return std::int64_t(std::min(n, 4294967296.0));
 }
@@ -98,9 +109,8 @@ void build_spatial_hash(const CollisionModel& c, CollisionScratch& s) {
     hs.bucket_fill.resize(hs.table_size);
   }
   parallel_over(prims, prim_grain, [&](Index slot) {
-    Aabb box;
-    if (!clip(s.prim_box[slot], s.query_bounds, box)) return;
-    const Cell lo = cell_of(box.lo, inv), hi = cell_of(box.hi, inv);
+    Cell lo, hi;
+    if (!hashed_cells(s, slot, inv, lo, hi)) return;
     Index o = hs.prim_cells[slot];
     for (std::int64_t i = lo.i; i <= hi.i; ++i)
       for (std::int64_t j = lo.j; j <= hi.j; ++j)

@@ -30,6 +30,11 @@ inline Index bucket_of(std::int64_t i, std::int64_t j, std::int64_t k, Index tab
                           (std::uint64_t(k) * 83492791u);
   return Index(h % std::uint64_t(table_size));
 }
+// Whether box's cells at 1/inv lie within +-cell_bias an axis, where cell_of does not clamp (false for NaN or inf).
+inline bool within_cell_range(const Aabb& box, Real inv_cell) {
+  const Real limit = Real(cell_bias - 1);
+  return (box.lo * inv_cell).cwiseAbs().maxCoeff() < limit && (box.hi * inv_cell).cwiseAbs().maxCoeff() < limit;
+}
 // A prim's box as hashed: clipped to where cloth can query.
 inline bool clip(const Aabb& box, const Aabb& bounds, Aabb& out) {
   out.lo = box.lo.cwiseMax(bounds.lo);
@@ -49,7 +54,9 @@ template <class Visit>
 void query_spatial_hash(const CollisionScratch& s, const Aabb& q, Visit&& visit) {
   using namespace spatial_hash_detail;
   const HashScratch& hs = s.hash;
-  if (hs.table_size == 0) return;
+  // A query beyond the representable cells (a blown-up vertex) would walk up to 2^63 clamped cells: it finds
+  // nothing, as the divergence check will stop the run.
+  if (hs.table_size == 0 || !within_cell_range(q, hs.inv_cell)) return;
   const Real inv = hs.inv_cell;
   const Cell lo = cell_of(q.lo, inv), hi = cell_of(q.hi, inv);
   for (std::int64_t i = lo.i; i <= hi.i; ++i)
