@@ -113,7 +113,7 @@ TEST_CASE("progress: one line per frame when stderr is not a terminal") {
 }
 
 TEST_CASE("every bundled example runs and writes its frames") {
-  for (const char* scene : {"flag/flag.xml", "hanging_sheet/sheet.xml", "pieces/pieces.xml"}) {
+  for (const char* scene : {"flag/flag.xml", "hanging_sheet/sheet.xml", "pieces/pieces.xml", "two_sheets/two_sheets.xml"}) {
     CAPTURE(scene);
     const fs::path dir = scratch_dir(std::string("example_") + fs::path(scene).stem().string());
     const CliResult r = run_cli("run " + std::string(CLOTHSIM_SOURCE_DIR) + "/examples/" + scene + " --quiet --out " +
