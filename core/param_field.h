@@ -45,13 +45,9 @@ class ParamField {
 // springs: 48 MB a field). The first differing value turns it into the per-element array.
 class ParamFieldBuilder {
  public:
-  void reserve(std::size_t n) { capacity_ = n; }
   void push(Real v) {
     if (count_ == 0) first_ = v;
-    if (values_.empty() && v != first_) {
-      values_.reserve(std::max(capacity_, count_ + 1));
-      values_.assign(count_, first_);
-    }
+    if (values_.empty() && v != first_) values_.assign(count_, first_);
     if (!values_.empty()) values_.push_back(v);
     ++count_;
   }
@@ -63,7 +59,7 @@ class ParamFieldBuilder {
  private:
   std::vector<Real> values_;  // empty while every value equals first_
   Real first_ = 0;
-  std::size_t count_ = 0, capacity_ = 0;
+  std::size_t count_ = 0;
 };
 
 }  // namespace clothsim
