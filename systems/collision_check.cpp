@@ -110,7 +110,7 @@ Index count_intersecting_triangles(const Model& m, std::span<const Vec3> x) {
 
 Index count_collider_crossings(const Model& m, std::span<const Vec3> x, const CollisionScratch& s, Index c) {
   const ColliderInfo& ci = m.collision.colliders[c];
-  if (ci.shape != ColliderShape::mesh && ci.shape != ColliderShape::sequence) return 0;
+  if ((ci.shape != ColliderShape::mesh && ci.shape != ColliderShape::sequence) || ci.closed) return 0;
   // Collider triangles sorted by the low x of their boxes; a cloth triangle visits those whose low x lies within
   // [its low x - the widest collider triangle, its high x], then tests the boxes in full.
   const Index n = ci.tri_end - ci.tri_begin;

@@ -16,7 +16,8 @@ Real min_collider_distance(const Model& model, std::span<const Vec3> x, const Co
 Index count_inside(const Model& model, std::span<const Vec3> x, const CollisionScratch& s, Index c);
 
 // Pairs (cloth triangle, triangle of collider mesh c, at s.collider_x1) that intersect: an edge of one crosses
-// the other. The penetration check for open meshes, where inside is not defined; 0 for spheres and planes.
+// the other. The penetration check for open meshes, where inside is not defined; 0 for spheres, planes and
+// closed meshes (count_inside checks those).
 Index count_collider_crossings(const Model& model, std::span<const Vec3> x, const CollisionScratch& s, Index c);
 
 // Pairs of cloth triangles that share no vertex and intersect (an edge of one crosses the other).

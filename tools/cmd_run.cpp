@@ -72,10 +72,9 @@ void add_collision_stats(const Model& model, const State& state, Workspace& ws, 
   f.penetrations = count_intersecting_triangles(model, state.x);
   for (Index c = 0; c < Index(model.collision.colliders.size()); ++c) {
     f.collider_distance.push_back(min_collider_distance(model, state.x, ws.collision, c));
-    f.penetrations += count_inside(model, state.x, ws.collision, c);
-    const ColliderInfo& ci = model.collision.colliders[c];
-    const bool open_mesh = (ci.shape == ColliderShape::mesh || ci.shape == ColliderShape::sequence) && !ci.closed;
-    if (open_mesh) f.penetrations += count_collider_crossings(model, state.x, ws.collision, c);
+    // Each check counts where it is defined: inside for closed shapes, crossings for open meshes.
+    f.penetrations += count_inside(model, state.x, ws.collision, c) +
+                      count_collider_crossings(model, state.x, ws.collision, c);
   }
 }
 
