@@ -48,6 +48,26 @@ inline Vec3 collider_position_change(const Vec3& dv, const Vec3& n, Real d, Real
   return h * dv + std::max(Real(0), thickness - d_after) * n;
 }
 
+// Adds sum wt_i v_i to rel and sum wt_i^2 inv_m_i to denom over the pair's particles: the relative velocity of a
+// cloth-cloth (or cloth-collider-edge) pair and the effective inverse mass its impulse divides by.
+inline void weighted_velocity(const Index* p, const Real* wt, int count, const Model& m, const std::vector<Vec3>& v,
+                              Vec3& rel, Real& denom) {
+  for (int k = 0; k < count; ++k) {
+    rel += wt[k] * v[p[k]];
+    denom += wt[k] * wt[k] * m.particle_inv_mass[p[k]];
+  }
+}
+
+// The relative velocity change of a pair: dvn along n, and Coulomb friction taking at most mu dvn off the
+// tangential part of rel (vn = rel . n).
+inline Vec3 normal_change_with_friction(const Vec3& rel, Real vn, const Vec3& n, Real dvn, Real mu) {
+  const Vec3 vt = rel - vn * n;
+  const Real vt_len = vt.norm();
+  Vec3 change = dvn * n;
+  if (vt_len > 0) change -= std::min(vt_len, mu * dvn) / vt_len * vt;
+  return change;
+}
+
 // Cloth-cloth impulse over up to four particles with signed weights wt (relative velocity sum wt_i v_i, normal
 // n pointing the way that relative velocity must grow): an inelastic impulse that stops the approach, a gentle
 // repulsion 0.1 (h - d)/dt while closer than h, and Coulomb friction. The impulse J satisfies
@@ -59,20 +79,13 @@ inline bool cloth_impulse(const Index* p, const Real* wt, int count, const Model
                           bool restore = false) {
   Vec3 rel = Vec3::Zero();
   Real denom = 0;
-  for (int k = 0; k < count; ++k) {
-    rel += wt[k] * v[p[k]];
-    denom += wt[k] * wt[k] * m.particle_inv_mass[p[k]];
-  }
+  weighted_velocity(p, wt, count, m, v, rel, denom);
   if (!(denom > 0)) return false;
   const Real vn = rel.dot(n);
   const Real dvn = restore ? std::max(Real(0), (thickness - d) / h)
                            : std::max(Real(0), Real(0.1) * (thickness - d) / h - vn);
   if (!(dvn > 0)) return false;
-  const Vec3 vt = rel - vn * n;
-  const Real vt_len = vt.norm();
-  Vec3 change = dvn * n;
-  if (vt_len > 0) change -= std::min(vt_len, mu * dvn) / vt_len * vt;
-  const Vec3 j = change / denom;
+  const Vec3 j = normal_change_with_friction(rel, vn, n, dvn, mu) / denom;
   for (int k = 0; k < count; ++k) dv_out[k] = wt[k] * m.particle_inv_mass[p[k]] * j;
   return true;
 }
@@ -88,16 +101,10 @@ inline bool inelastic_separation(const Index* p, const Real* wt, int count, cons
                                  Real thickness, Real mu, Real h, Vec3* dv_out, Vec3* dx_out) {
   Vec3 rel = -v_fixed;
   Real denom = 0;
-  for (int k = 0; k < count; ++k) {
-    rel += wt[k] * v[p[k]];
-    denom += wt[k] * wt[k] * m.particle_inv_mass[p[k]];
-  }
+  weighted_velocity(p, wt, count, m, v, rel, denom);
   if (!(denom > 0) || !(d < thickness)) return false;
   const Real vn = rel.dot(n), dvn = std::max(Real(0), -vn);
-  const Vec3 vt = rel - vn * n;
-  const Real vt_len = vt.norm();
-  Vec3 change = dvn * n;
-  if (vt_len > 0) change -= std::min(vt_len, mu * dvn) / vt_len * vt;
+  const Vec3 change = normal_change_with_friction(rel, vn, n, dvn, mu);
   const Real push = std::max(Real(0), thickness - d - h * dvn);
   for (int k = 0; k < count; ++k) {
     const Real share = wt[k] * m.particle_inv_mass[p[k]] / denom;
