@@ -27,11 +27,26 @@ namespace {
 // Springs [begin, end) of one block (at most spring_lane_block) into structure-of-arrays lanes. The endpoints
 // are gathered into lanes first, so the arithmetic (sqrt and division bound, docs/performance.md) runs as one
 // loop the compiler vectorises. It is spring_force_lane, the expression spring_force uses, so the layouts stay
-// bitwise equal (tests/spring_layouts_test.cpp). Uniform stiffness and damping stay scalars (broadcast into
-// the vector loop) instead of two lanes filled per spring.
+// bitwise equal (tests/spring_layouts_test.cpp). Each of ke and kd is read in its field's form (chosen once per
+// block, not per spring): a uniform value stays a scalar, broadcast into the vector loop; a palette is read
+// through its one-byte codes from a table in L1; only a per-element field streams 8 bytes a spring.
 constexpr Index spring_lane_block = spring_block_size;
 
-template <bool uniform>
+enum class Form { uniform, palette, per_element };
+
+Form form_of(const ParamField& f) {
+  return f.uniform() ? Form::uniform : f.paletted() ? Form::palette : Form::per_element;
+}
+
+// Element s of a field known to be of form F (uniform reads data()[0]).
+template <Form F>
+Real field_at(const ParamField& f, Index s) {
+  if constexpr (F == Form::uniform) return f.data()[0];
+  else if constexpr (F == Form::palette) return f.data()[f.code()[s]];
+  else return f.data()[s];
+}
+
+template <Form ke_form, Form kd_form>
 void eval_spring_lanes(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Index begin, Index end,
                        SpringLanes& out) {
   alignas(64) Real dx[spring_lane_block], dy[spring_lane_block], dz[spring_lane_block];
@@ -43,18 +58,27 @@ void eval_spring_lanes(const Model& m, std::span<const Vec3> x, std::span<const 
     dx[k] = x[b][0] - x[a][0]; dy[k] = x[b][1] - x[a][1]; dz[k] = x[b][2] - x[a][2];
     dvx[k] = v[b][0] - v[a][0]; dvy[k] = v[b][1] - v[a][1]; dvz[k] = v[b][2] - v[a][2];
     rest[k] = m.spring_rest[s];
-    if constexpr (!uniform) {
-      ke[k] = m.spring_ke[s];
-      kd[k] = m.spring_kd[s];
-    }
+    if constexpr (ke_form != Form::uniform) ke[k] = field_at<ke_form>(m.spring_ke, s);
+    if constexpr (kd_form != Form::uniform) kd[k] = field_at<kd_form>(m.spring_kd, s);
   }
-  const Real ke0 = m.spring_ke[0], kd0 = m.spring_kd[0];
+  const Real ke0 = m.spring_ke.data()[0], kd0 = m.spring_kd.data()[0];
   for (Index k = 0; k < n; ++k) {
     const SpringLane f = spring_force_lane(dx[k], dy[k], dz[k], dvx[k], dvy[k], dvz[k], rest[k],
-                                           uniform ? ke0 : ke[k], uniform ? kd0 : kd[k]);
+                                           ke_form == Form::uniform ? ke0 : ke[k],
+                                           kd_form == Form::uniform ? kd0 : kd[k]);
     out.fx[k] = f.fx;
     out.fy[k] = f.fy;
     out.fz[k] = f.fz;
+  }
+}
+
+template <Form ke_form>
+void eval_spring_lanes_kd(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Index begin,
+                          Index end, SpringLanes& out) {
+  switch (form_of(m.spring_kd)) {
+    case Form::uniform: return eval_spring_lanes<ke_form, Form::uniform>(m, x, v, begin, end, out);
+    case Form::palette: return eval_spring_lanes<ke_form, Form::palette>(m, x, v, begin, end, out);
+    case Form::per_element: return eval_spring_lanes<ke_form, Form::per_element>(m, x, v, begin, end, out);
   }
 }
 
@@ -62,8 +86,11 @@ void eval_spring_lanes(const Model& m, std::span<const Vec3> x, std::span<const 
 
 void eval_spring_block(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Index begin, Index end,
                        SpringLanes& out) {
-  if (m.spring_ke.uniform() && m.spring_kd.uniform()) eval_spring_lanes<true>(m, x, v, begin, end, out);
-  else eval_spring_lanes<false>(m, x, v, begin, end, out);
+  switch (form_of(m.spring_ke)) {
+    case Form::uniform: return eval_spring_lanes_kd<Form::uniform>(m, x, v, begin, end, out);
+    case Form::palette: return eval_spring_lanes_kd<Form::palette>(m, x, v, begin, end, out);
+    case Form::per_element: return eval_spring_lanes_kd<Form::per_element>(m, x, v, begin, end, out);
+  }
 }
 
 void eval_springs_two_phase(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f,

@@ -59,14 +59,16 @@ TEST_CASE("a grid model holds its hand-counted bytes: no spring CSR, no per-spri
   CHECK(workspace_bytes(make_workspace(m)) == std::size_t(48 * g.particles));  // f and normals
 }
 
-TEST_CASE("a varying parameter costs its per-spring array, and kernels that read the spring CSR get it") {
+TEST_CASE("a parameter varying by spring kind costs a palette and a byte a spring; kernels that read the CSR get it") {
   SceneDesc s = test::grid_scene(16, 16, 1.0, Integrator::implicit);
-  s.cloths[0].bend_scale = 0.5;  // flex springs differ from the others: ke per spring
+  s.cloths[0].bend_scale = 0.5;  // flex springs differ from the others: two stiffness values
   const BuiltScene b = test::build(s);
   const GridCounts g = grid_counts(16);
-  CHECK_FALSE(b.model.spring_ke.uniform());
+  CHECK(b.model.spring_ke.paletted());
+  CHECK(b.model.spring_ke.size() == 2);
   CHECK(b.model.particle_spring_offset.size() == std::size_t(g.particles + 1));  // implicit reads it
-  CHECK(model_bytes(b.model) == std::size_t(model_hand_count(g, one_chunk_schedule) + 8 * g.springs - 8 +
+  // ke: two palette entries (16 bytes, against the hand count's one scalar) and one code byte per spring.
+  CHECK(model_bytes(b.model) == std::size_t(model_hand_count(g, one_chunk_schedule) + 16 - 8 + g.springs +
                                             4 * (g.particles + 1) + 8 * g.springs));
 }
 

@@ -125,18 +125,29 @@ TEST_CASE("blocked layout: bitwise the plain sequential sum in (pass, chunk, spr
   // change a bit against f[a] += f_s, f[b] -= f_s done one spring at a time in the documented order.
   BuiltScene b = perturbed_sheet();
   Model& m = b.model;
-  for (Index chunk_size : {Index(256), Index(0)}) {
-    CAPTURE(chunk_size);
-    REQUIRE(build_spring_chunks(m, chunk_size));
-    if (chunk_size == 0) {  // per-spring stiffness and damping (a map), the kernel's other lane path
-      std::vector<Real> ke(m.spring_count), kd(m.spring_count);
+  // The three ways the lane block reads ke and kd: the bench sheet's own fields (flex springs at 0.1 x the
+  // stiffness: a palette of two values; uniform damping), then both per spring (a map), then both a palette.
+  enum class Fields { sheet, per_element, palette };
+  for (const Fields fields : {Fields::sheet, Fields::per_element, Fields::palette}) {
+    CAPTURE(int(fields));
+    REQUIRE(build_spring_chunks(m, fields == Fields::sheet ? 256 : 0));
+    if (fields == Fields::sheet) {
+      REQUIRE(m.spring_ke.paletted());
+      REQUIRE(m.spring_kd.uniform());
+    } else {
+      ParamFieldBuilder ke, kd;
       for (Index s = 0; s < m.spring_count; ++s) {
-        ke[s] = 500 + s % 7;
-        kd[s] = 0.1 + 0.01 * (s % 5);
+        // per element: more distinct values than a palette holds; palette: a few
+        const bool many = fields == Fields::per_element;
+        ke.push(500 + s % (many ? 97 : 7));
+        kd.push(0.1 + 0.001 * (s % (many ? 89 : 5)));
       }
-      m.spring_ke = ParamField::from_values(ke);
-      m.spring_kd = ParamField::from_values(kd);
+      m.spring_ke = ke.finish();
+      m.spring_kd = kd.finish();
+      REQUIRE(m.spring_ke.paletted() == (fields == Fields::palette));
+      REQUIRE(m.spring_kd.paletted() == (fields == Fields::palette));
       REQUIRE_FALSE(m.spring_ke.uniform());
+      REQUIRE_FALSE(m.spring_kd.uniform());
     }
     std::vector<Vec3> reference(m.particle_count, Vec3::Zero()), blocked(m.particle_count);
     for (Index c : m.spring_pass_chunk)

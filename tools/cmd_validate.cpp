@@ -1,5 +1,6 @@
 // clothsim validate SCENE.xml: reads the scene and every mesh and builds the model, without simulating.
 #include <cstdio>
+#include <string>
 
 #include "tools/cli_args.h"
 #include "tools/commands.h"
@@ -24,9 +25,13 @@ int cmd_validate(int argc, char** argv) {
   std::printf("  frames %d..%d at %g fps, %d steps per frame of %.6g s\n", m.start_frame, m.end_frame, m.fps,
               m.steps_per_frame, m.dt);
   // Whether each parameter stayed one scalar or became an array because a map was given (docs/maps.md).
-  auto form = [](const ParamField& f) { return f.uniform() ? "one value" : "per element (mapped or scaled)"; };
-  std::printf("  stiffness %s, damping %s, thickness %s\n", form(m.spring_ke), form(m.spring_kd),
-              form(m.particle_thickness));
+  auto form = [](const ParamField& f) {
+    if (f.uniform()) return std::string("one value");
+    if (f.paletted()) return std::to_string(f.size()) + " values (mapped or scaled)";
+    return std::string("per element (mapped or scaled)");
+  };
+  std::printf("  stiffness %s, damping %s, thickness %s\n", form(m.spring_ke).c_str(), form(m.spring_kd).c_str(),
+              form(m.particle_thickness).c_str());
   // Stability limits of undamped springs (docs/stability.md): power iteration on M^-1 K at rest.
   const StableSteps limits = scene_stable_steps(m, s.built.state.x);
   std::printf("  omega_max %.6g rad/s; largest stable step: symplectic %.6g s, rk4 %.6g s, euler none, "
