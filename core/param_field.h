@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "core/math.h"
@@ -17,6 +18,7 @@ namespace clothsim {
 class ParamField {
  public:
   static constexpr std::size_t palette_max = 16;
+  enum class Form { uniform, palette, per_element };
 
   ParamField() : data_(1, 0.0) {}
   explicit ParamField(Real uniform) : data_(1, uniform) {}
@@ -48,6 +50,14 @@ class ParamField {
   }
 
   Real operator[](std::size_t i) const { return code_.empty() ? data_[i * stride_] : data_[code_[i]]; }
+  // Element i of a field known to be of form F: what a hot loop reads after choosing its form once (with_forms).
+  template <Form F>
+  Real at(std::size_t i) const {
+    if constexpr (F == Form::uniform) return data_[0];
+    else if constexpr (F == Form::palette) return data_[code_[i]];
+    else return data_[i];
+  }
+  Form form() const { return uniform() ? Form::uniform : paletted() ? Form::palette : Form::per_element; }
   bool uniform() const { return stride_ == 0 && code_.empty(); }
   bool paletted() const { return !code_.empty(); }
   // uniform: the value; palette: the palette; per element: the values.
@@ -63,6 +73,25 @@ class ParamField {
   std::vector<std::uint8_t> code_;  // palette form only
   std::size_t stride_ = 0;          // 1 in the per-element form
 };
+
+// Calls body(std::integral_constant<ParamField::Form, ...>{} for a, ... for b): a kernel instantiated once per
+// pair of forms, chosen outside its loop, so each field costs only what its form needs.
+template <class Body>
+decltype(auto) with_forms(const ParamField& a, const ParamField& b, Body&& body) {
+  using F = ParamField::Form;
+  auto second = [&](auto fa) -> decltype(auto) {
+    switch (b.form()) {
+      case F::uniform: return body(fa, std::integral_constant<F, F::uniform>{});
+      case F::palette: return body(fa, std::integral_constant<F, F::palette>{});
+      default: return body(fa, std::integral_constant<F, F::per_element>{});
+    }
+  };
+  switch (a.form()) {
+    case F::uniform: return second(std::integral_constant<F, F::uniform>{});
+    case F::palette: return second(std::integral_constant<F, F::palette>{});
+    default: return second(std::integral_constant<F, F::per_element>{});
+  }
+}
 
 // Collects a field value by value in the cheapest form that holds it, so a uniform parameter never costs a
 // per-element array, not even while the model is built (a million-particle sheet has six million springs:

@@ -9,16 +9,19 @@
 namespace clothsim {
 
 void eval_springs_gather(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f) {
-  parallel_over(m.particle_count, particle_grain, [&](Index i) {
-    Vec3 sum = Vec3::Zero();
-    for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
-      const Index e = m.particle_spring_index[k];
-      const Index s = e >= 0 ? e : ~e;
-      const Vec3 fa = spring_force(x[m.spring_a[s]], x[m.spring_b[s]], v[m.spring_a[s]], v[m.spring_b[s]],
-                                   m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]);
-      sum += e >= 0 ? fa : Vec3(-fa);
-    }
-    f[i] = sum;
+  with_forms(m.spring_ke, m.spring_kd, [&](auto ke, auto kd) {
+    parallel_over(m.particle_count, particle_grain, [&](Index i) {
+      Vec3 sum = Vec3::Zero();
+      for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
+        const Index e = m.particle_spring_index[k];
+        const Index s = e >= 0 ? e : ~e;
+        const Vec3 fa = spring_force(x[m.spring_a[s]], x[m.spring_b[s]], v[m.spring_a[s]], v[m.spring_b[s]],
+                                     m.spring_rest[s], m.spring_ke.at<decltype(ke)::value>(s),
+                                     m.spring_kd.at<decltype(kd)::value>(s));
+        sum += e >= 0 ? fa : Vec3(-fa);
+      }
+      f[i] = sum;
+    });
   });
 }
 
@@ -32,19 +35,7 @@ namespace {
 // through its one-byte codes from a table in L1; only a per-element field streams 8 bytes a spring.
 constexpr Index spring_lane_block = spring_block_size;
 
-enum class Form { uniform, palette, per_element };
-
-Form form_of(const ParamField& f) {
-  return f.uniform() ? Form::uniform : f.paletted() ? Form::palette : Form::per_element;
-}
-
-// Element s of a field known to be of form F (uniform reads data()[0]).
-template <Form F>
-Real field_at(const ParamField& f, Index s) {
-  if constexpr (F == Form::uniform) return f.data()[0];
-  else if constexpr (F == Form::palette) return f.data()[f.code()[s]];
-  else return f.data()[s];
-}
+using Form = ParamField::Form;
 
 template <Form ke_form, Form kd_form>
 void eval_spring_lanes(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Index begin, Index end,
@@ -58,8 +49,8 @@ void eval_spring_lanes(const Model& m, std::span<const Vec3> x, std::span<const 
     dx[k] = x[b][0] - x[a][0]; dy[k] = x[b][1] - x[a][1]; dz[k] = x[b][2] - x[a][2];
     dvx[k] = v[b][0] - v[a][0]; dvy[k] = v[b][1] - v[a][1]; dvz[k] = v[b][2] - v[a][2];
     rest[k] = m.spring_rest[s];
-    if constexpr (ke_form != Form::uniform) ke[k] = field_at<ke_form>(m.spring_ke, s);
-    if constexpr (kd_form != Form::uniform) kd[k] = field_at<kd_form>(m.spring_kd, s);
+    if constexpr (ke_form != Form::uniform) ke[k] = m.spring_ke.at<ke_form>(s);
+    if constexpr (kd_form != Form::uniform) kd[k] = m.spring_kd.at<kd_form>(s);
   }
   const Real ke0 = m.spring_ke.data()[0], kd0 = m.spring_kd.data()[0];
   for (Index k = 0; k < n; ++k) {
@@ -72,25 +63,13 @@ void eval_spring_lanes(const Model& m, std::span<const Vec3> x, std::span<const 
   }
 }
 
-template <Form ke_form>
-void eval_spring_lanes_kd(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Index begin,
-                          Index end, SpringLanes& out) {
-  switch (form_of(m.spring_kd)) {
-    case Form::uniform: return eval_spring_lanes<ke_form, Form::uniform>(m, x, v, begin, end, out);
-    case Form::palette: return eval_spring_lanes<ke_form, Form::palette>(m, x, v, begin, end, out);
-    case Form::per_element: return eval_spring_lanes<ke_form, Form::per_element>(m, x, v, begin, end, out);
-  }
-}
-
 }  // namespace
 
 void eval_spring_block(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Index begin, Index end,
                        SpringLanes& out) {
-  switch (form_of(m.spring_ke)) {
-    case Form::uniform: return eval_spring_lanes_kd<Form::uniform>(m, x, v, begin, end, out);
-    case Form::palette: return eval_spring_lanes_kd<Form::palette>(m, x, v, begin, end, out);
-    case Form::per_element: return eval_spring_lanes_kd<Form::per_element>(m, x, v, begin, end, out);
-  }
+  with_forms(m.spring_ke, m.spring_kd, [&](auto ke, auto kd) {
+    eval_spring_lanes<decltype(ke)::value, decltype(kd)::value>(m, x, v, begin, end, out);
+  });
 }
 
 void eval_springs_two_phase(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f,
