@@ -28,6 +28,27 @@ Real implicit_error(Real h) {
   return std::abs(s.state.x[1].x() - (1 + 0.1 * std::cos(10.0)));
 }
 
+// A grid sheet with damped springs hanging from the two corners of its top row, for the implicit integrator.
+BuiltScene damped_implicit_sheet(int nx, int ny, Real cg_tolerance) {
+  GridSpec g;
+  g.nx = nx;
+  g.ny = ny;
+  g.damping = 0.3;
+  g.pins = {0, nx - 1};
+  g.integrator = Integrator::implicit;
+  BuiltScene s = grid_sheet(g);
+  s.model.cg_tolerance = cg_tolerance;
+  return s;
+}
+
+// Largest |(out.v - in.v) - dv| over the particles: a step's velocity change against a dense reference's.
+Real largest_difference(const State& in, const State& out, const Eigen::VectorXd& dv) {
+  Real worst = 0;
+  for (std::size_t i = 0; i < in.v.size(); ++i)
+    worst = std::max(worst, (out.v[i] - in.v[i] - Vec3(dv.segment<3>(3 * Eigen::Index(i)))).norm());
+  return worst;
+}
+
 // Dense reference system of one step (Baraff & Witkin eq. 15-16): A = M - h df/dv - h^2 df/dx,
 // b = h (f + h df/dx v), with the rows and columns of pinned particles replaced by the identity and b = 0 there.
 std::pair<Eigen::MatrixXd, Eigen::VectorXd> dense_system(const Model& m, const State& st, Real h) {
@@ -98,15 +119,8 @@ TEST_CASE("implicit Euler converges at first order on the two-particle spring") 
 }
 
 TEST_CASE("one implicit step equals a dense solve of Baraff & Witkin eq. 15-16 on a small sheet") {
-  GridSpec g;
-  g.nx = 5;
-  g.ny = 4;
-  g.damping = 0.3;
-  g.pins = {0, 4};
-  g.integrator = Integrator::implicit;
-  BuiltScene s = grid_sheet(g);
+  BuiltScene s = damped_implicit_sheet(5, 4, 1e-13);
   Model& m = s.model;
-  m.cg_tolerance = 1e-13;
   const Index n = m.particle_count;
   // A stretched, moving state, so the transverse terms and the damping Jacobian all matter.
   for (Index i = 0; i < n; ++i) {
@@ -121,9 +135,7 @@ TEST_CASE("one implicit step equals a dense solve of Baraff & Witkin eq. 15-16 o
 
   const auto [A, rhs] = dense_system(m, s.state, h);
   const Eigen::VectorXd dv = A.ldlt().solve(rhs);
-  Real worst = 0;
-  for (Index i = 0; i < n; ++i) worst = std::max(worst, (out.v[i] - s.state.v[i] - Vec3(dv.segment<3>(3 * i))).norm());
-  CHECK(worst < 1e-9 * dv.norm());
+  CHECK(largest_difference(s.state, out, dv) < 1e-9 * dv.norm());
   CHECK(dv.norm() > 0.1);  // the step does change the velocities
   for (Index p : m.pinned) CHECK(out.x[p] == s.state.x[p]);
   REQUIRE(ws.solve_log.size() == 1);
@@ -190,15 +202,8 @@ TEST_CASE("Newton iterations reduce the backward-Euler residual of a step on a s
 
 TEST_CASE("CG with the 3x3 block-Jacobi preconditioner takes the iterations of a dense reference PCG") {
   // Masses spread over four decades make the plain CG slow; the block-Jacobi preconditioner must undo that.
-  GridSpec g;
-  g.nx = 8;
-  g.ny = 6;
-  g.damping = 0.3;
-  g.pins = {0, 7};
-  g.integrator = Integrator::implicit;
-  BuiltScene s = grid_sheet(g);
+  BuiltScene s = damped_implicit_sheet(8, 6, 1e-8);
   Model& m = s.model;
-  m.cg_tolerance = 1e-8;
   for (Index i = 0; i < m.particle_count; ++i) {
     if (m.particle_inv_mass[i] > 0) m.particle_inv_mass[i] *= std::pow(1e-4, std::sin(1.3 * i) * 0.5 + 0.5);
     s.state.x[i] *= 1.1;
@@ -218,8 +223,5 @@ TEST_CASE("CG with the 3x3 block-Jacobi preconditioner takes the iterations of a
   CHECK(std::abs(ours - block_jacobi) <= 1);  // the same algorithm, up to round-off at the last iteration
   CHECK(ours < plain / 2);
   const Eigen::VectorXd dv = A.ldlt().solve(rhs);
-  Real worst = 0;
-  for (Index i = 0; i < m.particle_count; ++i)
-    worst = std::max(worst, (out.v[i] - s.state.v[i] - Vec3(dv.segment<3>(3 * i))).norm());
-  CHECK(worst < 1e-6 * dv.norm());
+  CHECK(largest_difference(s.state, out, dv) < 1e-6 * dv.norm());
 }
