@@ -4,10 +4,10 @@ in one run, on one machine.
 
   blender -b --factory-startup --python-exit-code 1 --python bench/peer_blender.py -- CLOTHSIM_BIN SCRATCH_DIR \
       [--side 128] [--seconds 1] [--fps 24] [--quality 5] [--tension 15] [--integrator implicit] \
-      [--stiffness N_PER_M] [--timestep 0.0041667] [--cg-tolerance 1e-3] [--threads 2]
+      [--stiffness N_PER_M] [--timestep 0.0041667] [--cg-tolerance 1e-3] [--max-strain 0.1] [--threads 2]
 
 bench/peer_blender.sh wraps it and exits 77 (skipped) where blender is not installed. Prints one row per peer:
-the step, simulated seconds per wall second and per CPU second, particle-steps per second, the largest strain of
+the step, simulated seconds per wall second and per CPU second, particle-steps per CPU second, the largest strain of
 the structural edges over the frames, and the ratio of each rate to clothsim's. docs/performance.md ("Peers side
 by side") explains the model differences.
 
@@ -41,6 +41,8 @@ ap.add_argument("--stiffness", type=float, default=0.0,
 ap.add_argument("--integrator", default="implicit", help="clothsim integrator")
 ap.add_argument("--timestep", type=float, default=1.0 / 240, help="clothsim step, s")
 ap.add_argument("--cg-tolerance", type=float, default=1e-3, help="clothsim implicit: relative CG residual")
+ap.add_argument("--max-strain", type=float, default=0.0,
+                help="clothsim: Provot strain limit (the cloth's maxStrain), e.g. 0.1; default none")
 ap.add_argument("--threads", type=int, default=2, help="threads for both")
 args = ap.parse_args(argv)
 
@@ -122,6 +124,7 @@ def run_clothsim():
     xml = os.path.join(args.scratch, "peer_sheet.xml")
     stats = os.path.join(args.scratch, "peer_stats.json")
     steps_per_frame = max(1, round(1.0 / (fps * args.timestep)))
+    limit = f' maxStrain="{args.max_strain!r}"' if args.max_strain > 0 else ""
     with open(xml, "w") as f:
         f.write(f"""<?xml version="1.0"?>
 <!-- bench/peer_blender.py: the peer sheet, {side} x {side}, 1 m, 1 kg, two corners pinned -->
@@ -129,7 +132,7 @@ def run_clothsim():
   <simulation timestep="{1.0 / (fps * steps_per_frame)!r}" fps="{fps}" startFrame="1" endFrame="{1 + frames}"
               integrator="{args.integrator}" cgTolerance="{args.cg_tolerance!r}" gravity="0 -9.81 0"/>
   <forces><airDamping value="0.1"/></forces>
-  <cloth name="sheet" grid="{side} {side}" size="1 1" translate="0 1 0" saveDir="{out}" saveName="sheet">
+  <cloth name="sheet" grid="{side} {side}" size="1 1" translate="0 1 0" saveDir="{out}" saveName="sheet"{limit}>
     <density value="1"/>
     <stiffness value="{stiffness!r}" bend="0.1"/>
     <damping value="0.1"/>
@@ -149,7 +152,8 @@ def run_clothsim():
     # The whole process, loading and writing frames included, as Blender's bake includes its set-up.
     return dict(peer=f"clothsim {st['integrator']}", step=st["dt"], steps=st["steps"], wall=wall, cpu=cpu,
                 max_strain=max(fr["max_strain"] for fr in st["frames"]), finite=st["status"] == "ok",
-                stiffness=stiffness)
+                stiffness=stiffness, cg_iterations=st.get("cg_iterations", 0),
+                strain_iterations=st.get("strain_limit_iterations", 0))
 
 
 cs = run_clothsim()
@@ -157,9 +161,12 @@ bl = run_blender()
 print(f"{side} x {side} sheet, 1 m, 1 kg, two corners pinned, {seconds:g} s simulated, {args.threads} threads; "
       f"Blender quality {args.quality}, tension {args.tension:g} (clothsim stiffness {cs['stiffness']:g} N/m)")
 print(f"{'peer':<18} {'step_s':>10} {'steps':>6} {'wall_s':>8} {'cpu_s':>8} {'sim_s/wall_s':>12} "
-      f"{'sim_s/cpu_s':>11} {'particle_st/s':>13} {'max_strain':>10} {'cs_vs_peer_wall':>15} {'cs_vs_peer_cpu':>14}")
+      f"{'sim_s/cpu_s':>11} {'pst/cpu_s':>13} {'max_strain':>10} {'cs_vs_peer_wall':>15} {'cs_vs_peer_cpu':>14}")
 for r in (cs, bl):
     print(f"{r['peer']:<18} {r['step']:>10.4g} {r['steps']:>6d} {r['wall']:>8.3f} {r['cpu']:>8.3f} "
-          f"{seconds / r['wall']:>12.4f} {seconds / r['cpu']:>11.4f} {particles * r['steps'] / r['wall']:>13.4g} "
+          f"{seconds / r['wall']:>12.4f} {seconds / r['cpu']:>11.4f} {particles * r['steps'] / r['cpu']:>13.4g} "
           f"{r['max_strain']:>10.4f} {r['wall'] / cs['wall']:>15.2f} {r['cpu'] / cs['cpu']:>14.2f}"
           f"{'' if r['finite'] else '  (diverged)'}")
+if cs["cg_iterations"] or cs["strain_iterations"]:
+    print(f"clothsim: {cs['cg_iterations'] / cs['steps']:.1f} CG iterations a step, "
+          f"{cs['strain_iterations'] / cs['steps']:.1f} strain-limit sweeps a step")

@@ -243,8 +243,8 @@ Workspace make_workspace(const Model& model) {
   ws.normal.assign(model.particle_count, Vec3::Zero());
   if (model.integrator == Integrator::implicit) {
     for (auto* buf : {&ws.dv, &ws.cg_x, &ws.cg_r, &ws.cg_p, &ws.cg_q}) buf->assign(model.particle_count, Vec3::Zero());
-    ws.cg_precond.assign(model.particle_count, Mat3::Zero());
-    ws.spring_block.assign(model.spring_count, Mat3::Zero());
+    ws.cg_precond.assign(model.particle_count, Sym3{});
+    ws.spring_block.assign(model.spring_count, Sym3{});
     ws.solve_log.reserve(std::size_t(model.steps_per_frame));
   }
   if (model.strain_limited) ws.strain_correction.assign(model.spring_count, Vec3::Zero());

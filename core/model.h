@@ -126,8 +126,8 @@ struct Workspace {
   std::vector<Vec3> normal;        // unit vertex normals for wind and output (particle_count)
   // implicit integrator scratch (particle_count / spring_count, or 0 for other integrators)
   std::vector<Vec3> dv, cg_x, cg_r, cg_p, cg_q;  // velocity change; CG solution, residual, search, A p
-  std::vector<Mat3> cg_precond;    // inverse of the system's diagonal block, 0 for pinned (particle_count)
-  std::vector<Mat3> spring_block;  // h kd n n^T + h^2 dfa/dxb of each spring (spring_count)
+  std::vector<Sym3> cg_precond;    // inverse of the system's diagonal 3x3 block, 0 for pinned (particle_count)
+  std::vector<Sym3> spring_block;  // h kd n n^T + h^2 dfa/dxb of each spring, symmetric (spring_count)
   struct SolveRecord {
     int cg_iterations = 0;         // summed over the Newton iterations of the step
     Real cg_residual = 0;          // |r|/|b| at the end of the last solve

@@ -17,8 +17,8 @@ using Sums2 = Eigen::Matrix<Real, 2, 1, Eigen::DontAlign>;
 void build_spring_blocks(const Model& m, std::span<const Vec3> x, Real h, Workspace& ws) {
   parallel_over(m.spring_count, 4 * particle_grain, [&](Index s) {
     const Index a = m.spring_a[s], b = m.spring_b[s];
-    ws.spring_block[s] = spring_system_block(
-        spring_jacobian(x[a], x[b], m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]), h);
+    ws.spring_block[s] = Sym3::from(spring_system_block(
+        spring_jacobian(x[a], x[b], m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]), h));
   });
 }
 
@@ -40,7 +40,7 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
   parallel_over(m.particle_count, particle_grain, [&](Index i) {
     const Real inv_m = m.particle_inv_mass[i];
     if (!(inv_m > 0)) {
-      ws.cg_precond[i] = Mat3::Zero();
+      ws.cg_precond[i] = Sym3{};
       ws.cg_r[i] = Vec3::Zero();
       return;
     }
@@ -51,13 +51,13 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
     for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
       const Index e = m.particle_spring_index[k];
       const Index s = e >= 0 ? e : ~e;
-      block += ws.spring_block[s];
+      block += ws.spring_block[s].full();
       if (first) {
         const Index a = m.spring_a[s], b = m.spring_b[s], j = e >= 0 ? b : a;
         kv += spring_jacobian(x[a], x[b], m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]).dfdx * (v[j] - v[i]);
       }
     }
-    ws.cg_precond[i] = block.inverse();
+    ws.cg_precond[i] = Sym3::from(block.inverse());  // symmetric up to round-off: its lower triangle
     ws.cg_r[i] = first ? Vec3(h * mass * ws.f[i] + (h * h) * kv) : Vec3(h * mass * ws.f[i] - mass * ws.dv[i]);
   });
 }

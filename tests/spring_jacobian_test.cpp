@@ -66,3 +66,16 @@ TEST_CASE("compressed spring: the transverse term is clamped so the block stays 
   CHECK((b - b.transpose()).norm() < 1e-15);
   CHECK(Eigen::SelfAdjointEigenSolver<Mat3>(b).eigenvalues()[0] >= 0);
 }
+
+TEST_CASE("a spring's system block is exactly symmetric, so its six stored entries apply as the whole block") {
+  // The implicit step keeps each spring's block as a Sym3 (core/math.h); that is only the same matrix when the
+  // block is symmetric to the last bit, which n n^T and I - n n^T are (n_i n_j = n_j n_i in floating point).
+  const SpringJacobian j = spring_jacobian(Vec3(0.1, -0.2, 0.3), Vec3(1.3, 0.4, -0.7), 0.9, 250, 1.5);
+  const Mat3 block = spring_system_block(j, 0.02);
+  CHECK(block == block.transpose());
+  const Sym3 stored = Sym3::from(block);
+  CHECK(stored.full() == block);
+  const Vec3 p(0.7, -1.9, 2.3);
+  CHECK((stored * p - block * p).norm() <= 1e-15 * (block * p).norm());
+  CHECK((block * p).norm() > 0.05);  // a block that does something
+}
