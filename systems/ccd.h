@@ -97,15 +97,19 @@ inline bool vertex_triangle_ccd(const Vec3 x0[4], const Vec3 x1[4], Real h, Real
   });
 }
 
-// True when the four points stay in one plane for the whole step: every coefficient of the coplanarity cubic is
-// rounding noise against the configuration's size L (|k_i| <= 1e-12 L^3; a pair 1e-6 L out of plane gives
+// True when the four points stay in one plane for the whole step: every coefficient k of their coplanarity cubic
+// is rounding noise against the configuration's size L (|k_i| <= 1e-12 L^3; a pair 1e-6 L out of plane gives
 // coefficients near 1e-6 L^3). The cubic then says nothing about when the points meet.
+inline bool coplanar_throughout(const Vec3 x0[4], const Vec3 x1[4], const Real k[4]) {
+  Real size2 = 0;
+  for (int j = 1; j < 4; ++j) size2 = std::max({size2, (x0[j] - x0[0]).squaredNorm(), (x1[j] - x1[0]).squaredNorm()});
+  const Real bound2 = 1e-24 * size2 * size2 * size2;
+  return k[0] * k[0] <= bound2 && k[1] * k[1] <= bound2 && k[2] * k[2] <= bound2 && k[3] * k[3] <= bound2;
+}
 inline bool coplanar_throughout(const Vec3 x0[4], const Vec3 x1[4]) {
-  Real k[4], size = 0;
+  Real k[4];
   coplanarity_cubic(x0, x1, k);
-  for (int j = 1; j < 4; ++j) size = std::max({size, (x0[j] - x0[0]).norm(), (x1[j] - x1[0]).norm()});
-  const Real bound = 1e-12 * size * size * size;
-  return std::abs(k[0]) <= bound && std::abs(k[1]) <= bound && std::abs(k[2]) <= bound && std::abs(k[3]) <= bound;
+  return coplanar_throughout(x0, x1, k);
 }
 
 // Two edges x[0]x[1] and x[2]x[3] moving within one plane (normal N): from apart, they first meet when an
@@ -141,11 +145,14 @@ inline int coplanar_edge_times(const Vec3 x0[4], const Vec3 x1[4], Real times[9]
 // plane of another) is tested where an endpoint of one crosses the other's line (coplanar_edge_times).
 inline bool edge_edge_ccd(const Vec3 x0[4], const Vec3 x1[4], Real tol, Real& t_hit, EdgeProximity& px) {
   const auto accept = [&](const Vec3* x) { return edge_edge_proximity(x[0], x[1], x[2], x[3], px) && px.d < tol; };
-  if (coplanar_throughout(x0, x1)) {
+  Real k[4];
+  coplanarity_cubic(x0, x1, k);
+  if (coplanar_throughout(x0, x1, k)) {
     Real times[9];
     return first_hit(x0, x1, times, coplanar_edge_times(x0, x1, times), t_hit, accept);
   }
-  return first_coplanar_hit(x0, x1, t_hit, accept);
+  Real roots[3];
+  return first_hit(x0, x1, roots, cubic_roots_01(k, roots), t_hit, accept);
 }
 
 // The direction along which an edge pair that met at time `when` (closest points px.s, px.t) is sent back: the
