@@ -95,7 +95,7 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
   mass.reserve(total_vertices);
   area.reserve(total_vertices);
   pinned_flag.reserve(total_vertices);
-  ParamFieldBuilder ke, kd, thickness, max_strain;
+  ParamFieldBuilder ke, kd, thickness, stretch, max_strain;
 
   for (std::size_t c = 0; c < scene.cloths.size(); ++c) {
     const ClothDesc& cd = scene.cloths[c];
@@ -133,6 +133,7 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
     const ParamField damping = vertex_field(scene, cd, mesh, vp.damping, cd.damping, "damping map");
     const ParamField vertex_thickness = vertex_field(scene, cd, mesh, vp.thickness, cd.thickness, "thickness map");
     for (Index i = 0; i < mesh.vertex_count(); ++i) thickness.push(vertex_thickness[i]);
+    for (Index i = 0; i < mesh.vertex_count(); ++i) stretch.push(stiffness[i]);
     // With a thickness map the cloth's one figure is its largest thickness (a safe bound for collision queries).
     info.thickness = vertex_thickness[0];
     for (Index i = 0; i < mesh.vertex_count(); ++i) info.thickness = std::max(info.thickness, vertex_thickness[i]);
@@ -204,6 +205,7 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
   m.spring_ke = ke.finish();
   m.spring_kd = kd.finish();
   m.particle_thickness = thickness.finish();
+  m.particle_stiffness = stretch.finish();
   if (m.strain_limited) m.spring_max_strain = max_strain.finish();
 
   // Vertices no triangle touches carry no mass: they stay where they are, like pins.

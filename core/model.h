@@ -50,6 +50,9 @@ struct Model {
   std::vector<Real> particle_area;      // m^2 lumped area, only when wind is on (particle_count or 0)
   std::vector<Index> pinned;            // indices of pinned particles (pinned count)
   ParamField particle_thickness;        // collision thickness, m (particle_count, stride 0 when uniform)
+  // stretch stiffness at each vertex (its <stiffness>, before the shear/bend scales), N/m: the spring that caps
+  // the cloth-cloth repulsion (systems/collision_response.h) (particle_count, stride 0 when uniform)
+  ParamField particle_stiffness;
 
   // --- springs
   Index spring_count = 0;

@@ -35,6 +35,7 @@ BuiltScene build_spring_system(const SpringSystemDesc& d) {
   }
   m.spring_ke = ParamField(d.stiffness);
   m.spring_kd = ParamField(d.damping);
+  m.particle_stiffness = ParamField(d.stiffness);
   m.spring_kind_total[int(SpringKind::edge)] = m.spring_count;
   build_particle_springs(m);
   m.particle_tri_offset.assign(std::size_t(m.particle_count) + 1, 0);

@@ -165,9 +165,10 @@ void collide_analytic(const Model& m, State& out, CollisionScratch& s, Real h) {
 }
 
 // One vertex-triangle contact, normal n towards the vertex's side, end-of-step distance d: the collider response
-// for a collider triangle, the cloth impulse for a cloth one (`restore`: the continuous pass's full correction).
+// for a collider triangle; for a cloth one, the spring-capped cloth impulse in the proximity pass and, in the
+// continuous pass (`crossed`), the inelastic stop with a position-only push back to the thickness.
 void respond_vertex_triangle(const Model& m, const State& out, CollisionScratch& s, Index i, Index prim,
-                             const PrimCorners& t, const Real* w, const Vec3& n, Real d, Real h, bool restore) {
+                             const PrimCorners& t, const Real* w, const Vec3& n, Real d, Real h, bool crossed) {
   const Real thick = m.particle_thickness[i];
   const Real mu = mean_friction(m, i, prim);
   if (!t.cloth) {
@@ -179,9 +180,14 @@ void respond_vertex_triangle(const Model& m, const State& out, CollisionScratch&
   }
   const Index p[4] = {i, t.p[0], t.p[1], t.p[2]};
   const Real wt[4] = {1, -w[0], -w[1], -w[2]};
-  Vec3 dv[4];
-  if (!cloth_impulse(p, wt, 4, m, out.v, n, d, thick, mu, h, dv, restore)) return;
-  for (int k = 0; k < 4; ++k) accumulate_contact(s, p[k], dv[k], h * dv[k]);
+  Vec3 dv[4], dx[4];
+  if (crossed) {
+    if (!inelastic_separation(p, wt, 4, m, out.v, Vec3::Zero(), n, d, thick, mu, h, dv, dx)) return;
+  } else {
+    if (!cloth_impulse(p, wt, 4, m, out.v, n, d, thick, mu, h, dv)) return;
+    for (int k = 0; k < 4; ++k) dx[k] = h * dv[k];
+  }
+  for (int k = 0; k < 4; ++k) accumulate_contact(s, p[k], dv[k], dx[k]);
 }
 
 void clear_accumulators(const Model& m, CollisionScratch& s) {
@@ -212,24 +218,18 @@ std::int64_t apply_accumulated(const Model& m, State& out, CollisionScratch& s) 
 
 // Edge-edge half of the continuous pass (Bridson et al. 2002 §4): edge x[0]x[1] of a cloth against edge x[2]x[3]
 // (another cloth edge, or a collider edge when `fixed`), moving linearly from x0 to x1 over the step. A crossing
-// sends the pair back to the side it came from: the normal is the two edges' cross product at the hit, pointed
-// the way the first edge lay at the start, and the end-of-step distance along it is restored to the thickness by
-// an inelastic impulse and a push spread over the cloth endpoints by their weights.
+// sends the pair back to the side it came from (crossing_normal, systems/ccd.h), and the end-of-step distance
+// along that normal is restored to the thickness by an inelastic impulse and a push spread over the cloth
+// endpoints by their weights.
 void respond_edge_edge_ccd(const Model& m, const State& out, CollisionScratch& s, const Index* p, bool fixed,
                            const Vec3 x0[4], const Vec3 x1[4], Real mu, Real h) {
   const Real thick = m.particle_thickness[p[0]];
   Real when;
   EdgeProximity px;
   if (!edge_edge_ccd(x0, x1, thick, when, px)) return;
-  auto at = [&](const Vec3* x) { return ((1 - px.s) * x[0] + px.s * x[1]) - ((1 - px.t) * x[2] + px.t * x[3]); };
-  const Vec3 gap0 = at(x0);
-  Vec3 n = ((1 - when) * (x0[1] - x0[0]) + when * (x1[1] - x1[0]))
-               .cross((1 - when) * (x0[3] - x0[2]) + when * (x1[3] - x1[2]));
-  if (!(n.squaredNorm() > 1e-20 * gap0.squaredNorm())) n = gap0;  // parallel edges: the start gap's direction
-  if (!(n.squaredNorm() > 0)) return;
-  n.normalize();
-  if (n.dot(gap0) < 0) n = -n;
-  const Real d = n.dot(at(x1));
+  Vec3 n;
+  if (!crossing_normal(x0, x1, when, px, n)) return;
+  const Real d = n.dot(((1 - px.s) * x1[0] + px.s * x1[1]) - ((1 - px.t) * x1[2] + px.t * x1[3]));
   if (!std::isfinite(d) || d >= thick) return;
   const Real wt[4] = {1 - px.s, px.s, -(1 - px.t), -px.t};
   const int count = fixed ? 2 : 4;

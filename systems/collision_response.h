@@ -68,22 +68,46 @@ inline Vec3 normal_change_with_friction(const Vec3& rel, Real vn, const Vec3& n,
   return change;
 }
 
+// Stiffness of a contact's repulsion spring: the stretch stiffness of its particles, each side of the pair
+// interpolated by its weights (k = sum |wt_i| k_i / sum |wt_i|; both sides' |wt| sum to 1, so this is the mean of
+// the two sides' interpolated stiffness).
+inline Real contact_stiffness(const Index* p, const Real* wt, int count, const Model& m) {
+  Real k = 0, weight = 0;
+  for (int i = 0; i < count; ++i) {
+    k += std::abs(wt[i]) * m.particle_stiffness[p[i]];
+    weight += std::abs(wt[i]);
+  }
+  return weight > 0 ? k / weight : 0;
+}
+
+// The relative normal velocity change of a pair whose relative normal velocity is vn, closer than the thickness
+// by `overlap` (> 0), over a step h, with effective inverse mass denom = sum wt_i^2 inv_m_i and repulsion spring
+// k (Bridson, Fedkiw & Anderson 2002 §7.2): an inelastic change that stops an approach, then, while the pair
+// separates slower than 0.1 overlap / h, a repulsion impulse I_r = min(h k overlap, (0.1 overlap / h - vn) / denom)
+// -- the spring's impulse over one step, never more than the velocity that closes a tenth of the overlap. From
+// rest this gives the pair at most min(h^2 k denom, 0.01 / (h^2 k denom)) <= 0.1 times the spring energy
+// k overlap^2 / 2 (kinetic energy I_r^2 denom / 2).
+inline Real repulsion_change(Real vn, Real overlap, Real denom, Real k, Real h) {
+  const Real stop = std::max(Real(0), -vn);
+  const Real vn_after = vn + stop, target = Real(0.1) * overlap / h;
+  if (!(vn_after < target)) return stop;
+  return stop + std::min(h * k * overlap * denom, target - vn_after);
+}
+
 // Cloth-cloth impulse over up to four particles with signed weights wt (relative velocity sum wt_i v_i, normal
-// n pointing the way that relative velocity must grow): an inelastic impulse that stops the approach, a gentle
-// repulsion 0.1 (h - d)/dt while closer than h, and Coulomb friction. The impulse J satisfies
-// sum wt_i^2 inv_m_i J = required change; with equal masses this is Bridson et al.'s 2I/(1 + sum w^2) scaling
-// (§7.1). `restore` (the continuous pass): instead, the change that brings the end-of-step distance d back to
-// the thickness. Returns false when no change is needed.
+// n pointing the way that relative velocity must grow) closer than the thickness (end-of-step distance d,
+// negative when the pair crossed): the inelastic stop and spring-capped repulsion of repulsion_change, with k
+// from contact_stiffness, and Coulomb friction. The impulse J satisfies sum wt_i^2 inv_m_i J = required change;
+// with equal masses this is Bridson et al.'s 2I/(1 + sum w^2) scaling (§7.1). Returns false when no change is
+// needed.
 inline bool cloth_impulse(const Index* p, const Real* wt, int count, const Model& m, const std::vector<Vec3>& v,
-                          const Vec3& n, Real d, Real thickness, Real mu, Real h, Vec3* dv_out,
-                          bool restore = false) {
+                          const Vec3& n, Real d, Real thickness, Real mu, Real h, Vec3* dv_out) {
   Vec3 rel = Vec3::Zero();
   Real denom = 0;
   weighted_velocity(p, wt, count, m, v, rel, denom);
-  if (!(denom > 0)) return false;
+  if (!(denom > 0) || !(d < thickness)) return false;
   const Real vn = rel.dot(n);
-  const Real dvn = restore ? std::max(Real(0), (thickness - d) / h)
-                           : std::max(Real(0), Real(0.1) * (thickness - d) / h - vn);
+  const Real dvn = repulsion_change(vn, thickness - d, denom, contact_stiffness(p, wt, count, m), h);
   if (!(dvn > 0)) return false;
   const Vec3 j = normal_change_with_friction(rel, vn, n, dvn, mu) / denom;
   for (int k = 0; k < count; ++k) dv_out[k] = wt[k] * m.particle_inv_mass[p[k]] * j;

@@ -81,3 +81,61 @@ TEST_CASE("edge-edge CCD with both edges moving: they meet at t = 1/3") {
   const Vec3 p1[4] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 0.1, -0.2), Vec3(1.5, 0.1, -0.2)};
   CHECK_FALSE(edge_edge_ccd(p0, p1, 0.01, t, hit));
 }
+
+TEST_CASE("edge-edge CCD: an edge sliding through another within their common plane is caught where it meets it") {
+  // P rests on the x axis from (0,0,0) to (1,0,0). Q, a 0.1 m edge along z at x = 0.5 in the same plane y = 0,
+  // slides by -0.6 in z over the step: its near end (z = 0.2 - 0.6 t) reaches P at t = 1/3, its far end
+  // (z = 0.3 - 0.6 t) leaves P at t = 1/2, and it ends 0.3 past P, where the end-of-step proximity sees nothing.
+  // All four points stay in y = 0: the coplanarity cubic is zero for every t and its only "root" t = 0 (Q 0.2
+  // away) missed the crossing; the CCD now solves where an endpoint crosses the other edge's line in the plane.
+  const Vec3 x0[4] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 0, 0.2), Vec3(0.5, 0, 0.3)};
+  const Vec3 x1[4] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 0, -0.4), Vec3(0.5, 0, -0.3)};
+  Real k[4];
+  coplanarity_cubic(x0, x1, k);
+  for (Real c : k) CHECK(c == 0);
+  CHECK(coplanar_throughout(x0, x1));
+  Real t = -1;
+  EdgeProximity hit;
+  REQUIRE(edge_edge_ccd(x0, x1, 0.01, t, hit));
+  CHECK(t == doctest::Approx(1.0 / 3));
+  CHECK(hit.s == doctest::Approx(0.5));
+  CHECK(hit.t == doctest::Approx(0).epsilon(1e-9));
+  CHECK(hit.d == doctest::Approx(0).epsilon(1e-9));
+  EdgeProximity end;
+  REQUIRE(edge_edge_proximity(x1[0], x1[1], x1[2], x1[3], end));
+  CHECK(end.d == doctest::Approx(0.3));
+  // The pair is sent back the way it came, within the plane: the edges' cross product (along y) is normal to
+  // the approach, so the normal is the start gap, from Q's point (0.5, 0, 0.2) to P's (0.5, 0, 0): -z.
+  Vec3 n = Vec3::Zero();
+  REQUIRE(crossing_normal(x0, x1, t, hit, n));
+  CHECK((n - Vec3(0, 0, -1)).norm() < 1e-12);
+  // The same slide 0.5 m further along x passes P's end (x = 1) by 0.5: no hit.
+  Vec3 y0[4] = {x0[0], x0[1], x0[2] + Vec3(1, 0, 0), x0[3] + Vec3(1, 0, 0)};
+  Vec3 y1[4] = {x1[0], x1[1], x1[2] + Vec3(1, 0, 0), x1[3] + Vec3(1, 0, 0)};
+  CHECK_FALSE(edge_edge_ccd(y0, y1, 0.01, t, hit));
+}
+
+TEST_CASE("edge-edge CCD in a common plane: both edges moving, and the plane tilted, meet at the hand-computed time") {
+  // In the plane z = 0: P from (0,0,0) to (1,0,0) moving +y at 1 per step; Q from (0.4, 2, 0) to (0.6, 1, 0)
+  // moving -y at 1 per step (a slanted edge). Q's lower end (y = 1 - t) meets P's line (y = t) at t = 1/2,
+  // at x = 0.6 (s = 0.6 along P, u = 1 along Q). Then the whole configuration is rotated out of axis alignment
+  // (a plane through the origin with normal (1, 2, 3) / |.|): the same hit.
+  const Vec3 a0[4] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.4, 2, 0), Vec3(0.6, 1, 0)};
+  Vec3 a1[4];
+  for (int j = 0; j < 4; ++j) a1[j] = a0[j] + Vec3(0, j < 2 ? 1 : -1, 0);
+  const Eigen::Matrix3d r = Eigen::Quaterniond::FromTwoVectors(Vec3(0, 0, 1), Vec3(1, 2, 3)).toRotationMatrix();
+  for (int tilted = 0; tilted < 2; ++tilted) {
+    Vec3 x0[4], x1[4];
+    for (int j = 0; j < 4; ++j) {
+      x0[j] = tilted ? Vec3(r * a0[j]) : a0[j];
+      x1[j] = tilted ? Vec3(r * a1[j]) : a1[j];
+    }
+    CHECK(coplanar_throughout(x0, x1));
+    Real t = -1;
+    EdgeProximity hit;
+    REQUIRE(edge_edge_ccd(x0, x1, 1e-6, t, hit));
+    CHECK(t == doctest::Approx(0.5));
+    CHECK(hit.s == doctest::Approx(0.6));
+    CHECK(hit.t == doctest::Approx(1));
+  }
+}

@@ -27,10 +27,11 @@ GridCounts grid_counts(double n) {
 // Hand count of a symplectic grid model with uniform parameters, blocked layout, one chunk and one pass:
 // inverse mass (8 a particle), spring a, b (4 each) and rest (8), triangle corners (3 x 4) and the triangle CSR
 // (offset 4 a particle + 1, 3 x 4 a triangle), UVs (16 a particle, their indices equal the vertex indices and are
-// not stored), four uniform fields of one scalar each (ke, kd, max strain, thickness), the chunk schedule.
+// not stored), five uniform fields of one scalar each (ke, kd, max strain, thickness, stretch stiffness), the chunk
+// schedule.
 double model_hand_count(const GridCounts& g, double chunk_entries) {
   return 8 * g.particles + 16 * g.springs + 12 * g.triangles + 4 * (g.particles + 1) + 12 * g.triangles +
-         16 * g.particles + 4 * 8 + 4 * chunk_entries;
+         16 * g.particles + 5 * 8 + 4 * chunk_entries;
 }
 
 // The blocked schedule of a 16^2 grid (1378 springs, below the smallest chunk size): one chunk in one pass.
