@@ -74,13 +74,12 @@ void BM_BvhRefit(benchmark::State& st) {
   set_counters(st, s.built.model);
 }
 
-// The whole stage: boxes, broad phase, collisionIterations passes of proximity and response.
-void BM_CollisionPass(benchmark::State& st) {
-  const BroadPhase broad = st.range(1) == 0 ? BroadPhase::hash : BroadPhase::bvh;
-  Sheet s = make_sheet(int(st.range(0)), broad);
+// Times the whole collide stage from s.in to s.out, restored before each call, after one warm-up call that
+// grows the hash once.
+void time_collide(benchmark::State& st, const Sheet& s) {
   Workspace ws = make_workspace(s.built.model);
   State out = s.out;
-  collide(s.built.model, s.in, out, ws, 1e-3);  // warm-up: grows the hash once
+  collide(s.built.model, s.in, out, ws, 1e-3);
   for (auto _ : st) {
     st.PauseTiming();
     out.x = s.out.x;
@@ -91,7 +90,13 @@ void BM_CollisionPass(benchmark::State& st) {
   set_counters(st, s.built.model);
   st.counters["contacts_per_pass"] =
       benchmark::Counter(double(ws.collision.contacts_found) / double(st.iterations() + 1));
-  st.SetLabel(broad == BroadPhase::hash ? "hash" : "bvh");
+  st.SetLabel(s.built.model.collision.broad_phase == BroadPhase::hash ? "hash" : "bvh");
+}
+
+// The whole stage: boxes, broad phase, collisionIterations passes of proximity and response.
+void BM_CollisionPass(benchmark::State& st) {
+  const BroadPhase broad = st.range(1) == 0 ? BroadPhase::hash : BroadPhase::bvh;
+  time_collide(st, make_sheet(int(st.range(0)), broad));
 }
 
 // A UV sphere mesh of radius r at the origin, `rings` x 2 `rings` quads, counter-clockwise outward.
@@ -150,20 +155,7 @@ void BM_ColliderPass(benchmark::State& st) {
     s.out.x[i] = p + 0.2 * c.thickness * Vec3(u(rng), u(rng), u(rng));
     s.out.v[i] = (s.out.x[i] - p) / 1e-3;
   }
-  Workspace ws = make_workspace(s.built.model);
-  State out = s.out;
-  collide(s.built.model, s.in, out, ws, 1e-3);
-  for (auto _ : st) {
-    st.PauseTiming();
-    out.x = s.out.x;
-    out.v = s.out.v;
-    st.ResumeTiming();
-    collide(s.built.model, s.in, out, ws, 1e-3);
-  }
-  set_counters(st, s.built.model);
-  st.counters["contacts_per_pass"] =
-      benchmark::Counter(double(ws.collision.contacts_found) / double(st.iterations() + 1));
-  st.SetLabel(st.range(1) == 0 ? "hash" : "bvh");
+  time_collide(st, s);
 }
 
 }  // namespace
