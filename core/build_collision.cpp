@@ -62,6 +62,23 @@ void build_cloth_pairs(const Model& m, CollisionModel& c) {
     }
 }
 
+// Each collider mesh vertex's triangles as a CSR (a counting sort, triangles ascending), and the lowest of them,
+// which alone reports the vertex to the cloth triangles its box meets.
+void build_vertex_tris(CollisionModel& c) {
+  const Index nv = c.mesh_vertex_count, nt = Index(c.mesh_tri_collider.size());
+  c.mesh_vertex_tri_offset.assign(std::size_t(nv) + 1, 0);
+  for (Index v : c.mesh_tri_index) ++c.mesh_vertex_tri_offset[v + 1];
+  for (Index v = 0; v < nv; ++v) c.mesh_vertex_tri_offset[v + 1] += c.mesh_vertex_tri_offset[v];
+  std::vector<Index> fill(c.mesh_vertex_tri_offset.begin(), c.mesh_vertex_tri_offset.end() - 1);
+  c.mesh_vertex_tri.resize(c.mesh_tri_index.size());
+  for (Index t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) c.mesh_vertex_tri[fill[c.mesh_tri_index[3 * t + k]]++] = t;
+  c.mesh_vertex_first_tri.assign(nv, -1);
+  for (Index v = 0; v < nv; ++v)
+    if (c.mesh_vertex_tri_offset[v] < c.mesh_vertex_tri_offset[v + 1])
+      c.mesh_vertex_first_tri[v] = c.mesh_vertex_tri[c.mesh_vertex_tri_offset[v]];
+}
+
 }  // namespace
 
 void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& meshes, const std::vector<Vec3>& x,
@@ -135,9 +152,11 @@ void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& 
                 c.edge_b, c.edge_first_tri, c.tri_edge);
     for (Index t : c.edge_first_tri) c.edge_contact.push_back(c.tri_contact[t]);
   }
-  if (meshes_present)
+  if (meshes_present) {
     build_edges(c.mesh_tri_index, Index(c.mesh_tri_collider.size()), [](Index) { return true; }, c.mesh_edge_a,
                 c.mesh_edge_b, c.mesh_edge_first_tri, c.mesh_tri_edge);
+    build_vertex_tris(c);
+  }
 
   // Teschner et al. 2003 §4: a cell near the size of a hashed box. A triangle's box is about an edge long
   // plus the thickness on each side, so the cell is mean edge + 2h (bench/collision_bench.cpp: 3.6x fewer

@@ -47,6 +47,10 @@ struct CollisionModel {
   // Unique collider mesh edges (mesh vertex indices), reported by their lowest triangle like the cloth's.
   std::vector<Index> mesh_edge_a, mesh_edge_b, mesh_edge_first_tri;  // (mesh edge count)
   std::vector<Index> mesh_tri_edge;                                  // (3 * mesh tris)
+  // Collider mesh vertices against cloth triangles: each vertex is reported by its lowest triangle, and its
+  // outward normal (the sum of its triangles' normals) is gathered over its triangles, in triangle order.
+  std::vector<Index> mesh_vertex_first_tri;                   // (mesh_vertex_count)
+  std::vector<Index> mesh_vertex_tri_offset, mesh_vertex_tri;  // CSR (mesh_vertex_count + 1), (3 * mesh tris)
   bool animated = false;
 
   // --- cloth side

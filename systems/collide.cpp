@@ -56,12 +56,87 @@ PrimCorners corners(const Model& m, const State& in, const State& out, const Col
   return c;
 }
 
+// Outward direction at collider vertex v at the end of the step: the sum of its triangles' normals (area
+// weighted, not normalised), gathered in triangle order.
+Vec3 collider_vertex_normal(const CollisionModel& c, const CollisionScratch& s, Index v) {
+  Vec3 n = Vec3::Zero();
+  for (Index k = c.mesh_vertex_tri_offset[v]; k < c.mesh_vertex_tri_offset[v + 1]; ++k) {
+    const Index* t = &c.mesh_tri_index[3 * c.mesh_vertex_tri[k]];
+    n += (s.collider_x1[t[1]] - s.collider_x1[t[0]]).cross(s.collider_x1[t[2]] - s.collider_x1[t[0]]);
+  }
+  return n;
+}
+
+// Which way along the cloth triangle's unit normal nt the triangle must lie from a collider vertex: the
+// collider's outside, by the vertex's outward direction nv (collider meshes are one-sided: their normals point
+// out), where that decides (|cos| > 0.2), so that a triangle already pushed past the vertex is sent back out;
+// otherwise (a triangle edge-on to the surface) the side it lay on at the start of the step, from
+// start = nt0 . (vertex - corner) at the start (the vertex's side of the triangle).
+Real collider_vertex_side(const Vec3& nt, const Vec3& nv, Real start) {
+  const Real cos = nt.dot(nv);
+  if (std::abs(cos) > 0.2 * nv.norm()) return cos > 0 ? 1 : -1;
+  return start > 0 ? -1 : 1;
+}
+
+Real triangle_thickness(const Model& m, const Index* p) {
+  return std::max({m.particle_thickness[p[0]], m.particle_thickness[p[1]], m.particle_thickness[p[2]]});
+}
+
+// Every collider-mesh vertex whose swept box may come within the thickness of cloth triangle t's swept box,
+// through the broad phase's collider triangles: a vertex is reported only by its lowest triangle, so each
+// (t, vertex) pair once. on_pair(t, vertex). Nothing for a scene without collider meshes.
+template <class OnPair>
+void for_each_collider_vertex_pair(const Model& m, const State& in, const State& out, const CollisionScratch& s,
+                                   BroadMode mode, OnPair&& on_pair) {
+  const CollisionModel& c = m.collision;
+  if (c.mesh_vertex_first_tri.empty()) return;
+  parallel_over(m.tri_count, contact_grain, [&](Index t) {
+    const Index* p = &m.tri_index[3 * t];
+    if (m.particle_inv_mass[p[0]] == 0 && m.particle_inv_mass[p[1]] == 0 && m.particle_inv_mass[p[2]] == 0) return;
+    Aabb q = swept_box(in.x[p[0]], out.x[p[0]]);
+    for (int k = 1; k < 3; ++k) { grow(q, in.x[p[k]]); grow(q, out.x[p[k]]); }
+    for_each_candidate(m, s, mode, q, [&](Index slot) {
+      const Index prim = c.prim[slot];
+      if (prim < m.tri_count) return;
+      const Index tri = prim - m.tri_count;
+      for (int k = 0; k < 3; ++k) {
+        const Index v = c.mesh_tri_index[3 * tri + k];
+        if (c.mesh_vertex_first_tri[v] == tri) on_pair(t, v);
+      }
+    });
+  });
+}
+
+// Cloth edge e (end points a, b) against collider edge g at the end of the step: the closest points within the
+// thickness, pointed back to the side the cloth edge came from when the pair crossed during the step (the
+// cloth-cloth rule). False when apart.
+bool cloth_collider_edge_proximity(const Model& m, const State& in, const State& out, const CollisionScratch& s,
+                                   Index a, Index b, Index g, EdgeProximity& px, Real& d) {
+  const CollisionModel& c = m.collision;
+  const Index ga = c.mesh_edge_a[g], gb = c.mesh_edge_b[g];
+  const Real h = m.particle_thickness[a];
+  const Aabb ea = swept_box(out.x[a], out.x[b]), eb = swept_box(s.collider_x1[ga], s.collider_x1[gb]);
+  if (((ea.lo.array() - h) > eb.hi.array()).any() || ((eb.lo.array() - h) > ea.hi.array()).any()) return false;
+  if (!edge_edge_proximity(out.x[a], out.x[b], s.collider_x1[ga], s.collider_x1[gb], px) || px.d >= h) return false;
+  EdgeProximity start;
+  d = px.d;
+  if (edge_edge_proximity(in.x[a], in.x[b], s.collider_x0[ga], s.collider_x0[gb], start) && start.n.dot(px.n) < 0) {
+    px.n = start.n;
+    d = -px.d;
+  }
+  return true;
+}
+
 // Vertex-triangle and edge-edge proximities of the configuration out (sides taken from in), through one broad
 // phase. on_vertex(i, prim, corners, proximity, d) gets d signed: negative when i crossed to the wrong side;
-// on_edge(e, f, proximity, d) likewise.
-template <class OnVertex, class OnEdge>
+// on_edge(e, f, proximity, d) likewise. Against collider meshes also: on_collider_vertex(t, v, proximity, n, d),
+// collider vertex v within the thickness of cloth triangle t, n the unit direction from the vertex to the side
+// the triangle must keep, d the triangle's signed distance along it; on_collider_edge(e, g, proximity, d),
+// cloth edge e against collider edge g, px.n pointing to the cloth edge's side.
+template <class OnVertex, class OnEdge, class OnColliderVertex, class OnColliderEdge>
 void for_each_proximity(const Model& m, const State& in, const State& out, const CollisionScratch& s,
-                        BroadMode mode, OnVertex&& on_vertex, OnEdge&& on_edge) {
+                        BroadMode mode, OnVertex&& on_vertex, OnEdge&& on_edge, OnColliderVertex&& on_collider_vertex,
+                        OnColliderEdge&& on_collider_edge) {
   const CollisionModel& c = m.collision;
   if (c.prim.empty()) return;
   parallel_over(m.particle_count, contact_grain, [&](Index i) {
@@ -89,9 +164,26 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
       on_vertex(i, prim, t, px, d);
     });
   });
-  if (!c.cloth_contact) return;
+  for_each_collider_vertex_pair(m, in, out, s, mode, [&](Index t, Index v) {
+    const Index* p = &m.tri_index[3 * t];
+    const Real h = triangle_thickness(m, p);
+    const Vec3 &v0 = s.collider_x0[v], &v1 = s.collider_x1[v];
+    TriangleProximity px;
+    if (!vertex_triangle_proximity(v1, out.x[p[0]], out.x[p[1]], out.x[p[2]], h, px)) return;
+    Real motion = (v1 - v0).norm(), own = 0;
+    for (int k = 0; k < 3; ++k) own = std::max(own, (out.x[p[k]] - in.x[p[k]]).norm());
+    motion += own;
+    if (!(std::abs(px.d) < h + motion)) return;
+    const Real start = (in.x[p[1]] - in.x[p[0]]).cross(in.x[p[2]] - in.x[p[0]]).dot(v0 - in.x[p[0]]);
+    const Real side = collider_vertex_side(px.n, collider_vertex_normal(c, s, v), start);
+    const Real d = -side * px.d;  // px.d: the vertex's height over the triangle along px.n
+    if (d >= h || d <= -(h + motion)) return;
+    on_collider_vertex(t, v, px, Vec3(side * px.n), d);
+  });
+  const bool meshes = !c.mesh_edge_a.empty();
+  if (!c.cloth_contact && !meshes) return;
   parallel_over(Index(c.edge_a.size()), contact_grain, [&](Index e) {
-    if (!c.edge_contact[e]) return;
+    if (!meshes && !c.edge_contact[e]) return;
     const Index a = c.edge_a[e], b = c.edge_b[e];
     const Real h = m.particle_thickness[a];
     Aabb q = swept_box(in.x[a], out.x[a]);
@@ -99,7 +191,18 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
     grow(q, out.x[b]);
     for_each_candidate(m, s, mode, q, [&](Index slot) {
       const Index prim = c.prim[slot];
-      if (prim >= m.tri_count) return;
+      if (prim >= m.tri_count) {
+        const Index tri = prim - m.tri_count;
+        for (int k = 0; k < 3; ++k) {
+          const Index g = c.mesh_tri_edge[3 * tri + k];
+          if (c.mesh_edge_first_tri[g] != tri) continue;
+          EdgeProximity px;
+          Real d;
+          if (cloth_collider_edge_proximity(m, in, out, s, a, b, g, px, d)) on_collider_edge(e, g, px, d);
+        }
+        return;
+      }
+      if (!c.edge_contact[e]) return;
       for (int k = 0; k < 3; ++k) {
         const Index f = c.tri_edge[3 * prim + k];
         if (f <= e || c.edge_first_tri[f] != prim) continue;
@@ -124,11 +227,34 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
 }
 
 // Friction and restitution of a contact: the mean of the two sides' friction (Coulomb), the cloth's restitution.
+Real collider_friction(const Model& m, Index i, Index collider) {
+  return 0.5 * (m.cloths[m.collision.particle_cloth[i]].friction + m.collision.colliders[collider].friction);
+}
 Real mean_friction(const Model& m, Index i, Index prim) {
   const CollisionModel& c = m.collision;
-  const Real mine = m.cloths[c.particle_cloth[i]].friction;
-  if (prim < m.tri_count) return 0.5 * (mine + m.cloths[c.particle_cloth[m.tri_index[3 * prim]]].friction);
-  return 0.5 * (mine + c.colliders[c.mesh_tri_collider[prim - m.tri_count]].friction);
+  if (prim >= m.tri_count) return collider_friction(m, i, c.mesh_tri_collider[prim - m.tri_count]);
+  return 0.5 * (m.cloths[c.particle_cloth[i]].friction + m.cloths[c.particle_cloth[m.tri_index[3 * prim]]].friction);
+}
+
+// A cloth point (weights w over the particles p: a triangle's barycentrics or an edge's) touching an immovable
+// collider point that moves from c0 to c1 over the step; n points from the collider to the cloth's side, d is
+// the cloth point's distance along it. The point gets the vertex-collider response (restitution, Coulomb
+// friction, the push to the thickness), spread over its particles by w_k inv_m_k / sum w^2 inv_m so that the
+// point itself changes by exactly that: Bridson et al. 2002 §7.1 with the collider's inverse mass zero.
+void respond_collider_point(const Model& m, const State& out, CollisionScratch& s, const Index* p, const Real* w,
+                            int count, const Vec3& c0, const Vec3& c1, const Vec3& n, Real d, Real thick, Real mu,
+                            Real h) {
+  Vec3 u = Vec3::Zero();
+  Real denom = 0;
+  weighted_velocity(p, w, count, m, out.v, u, denom);
+  if (!(denom > 0)) return;
+  const Real e = m.cloths[m.collision.particle_cloth[p[0]]].restitution;
+  const Vec3 dv = collider_velocity_change(u, (c1 - c0) / h, n, e, mu);
+  const Vec3 dx = collider_position_change(dv, n, d, thick, h);
+  for (int k = 0; k < count; ++k) {
+    const Real share = w[k] * m.particle_inv_mass[p[k]] / denom;
+    accumulate_contact(s, p[k], share * dv, share * dx);
+  }
 }
 
 // Spheres and planes: exact signed distances, tested against every particle (no broad phase needed).
@@ -318,6 +444,28 @@ std::int64_t collide_continuous(const Model& m, const State& in, State& out, Col
       respond_vertex_triangle(m, out, s, i, prim, t, px.w, n, d, h, true);
     });
   });
+  // Collider vertices against cloth triangles: a hit from the collider's outside (by the vertex's outward
+  // direction, as in the proximity pass) sends the triangle back to the side it lay on at the start.
+  for_each_collider_vertex_pair(m, in, out, s, mode, [&](Index t, Index v) {
+    const Index* p = &m.tri_index[3 * t];
+    const Real thick = triangle_thickness(m, p);
+    const Vec3 x0[4] = {s.collider_x0[v], in.x[p[0]], in.x[p[1]], in.x[p[2]]};
+    const Vec3 x1[4] = {s.collider_x1[v], out.x[p[0]], out.x[p[1]], out.x[p[2]]};
+    Real when;
+    TriangleProximity px;
+    if (!vertex_triangle_ccd(x0, x1, thick, when, px)) return;
+    const Vec3 n0 = (x0[2] - x0[1]).cross(x0[3] - x0[1]);
+    const Real way = n0.dot(x0[0] - x0[1]) > 0 ? -1 : 1;  // the triangle lay this way from the vertex along n0
+    const Vec3 nv = collider_vertex_normal(c, s, v);
+    if (way * n0.dot(nv) < -0.2 * n0.norm() * nv.norm()) return;
+    const Vec3 n = way * (x1[2] - x1[1]).cross(x1[3] - x1[1]).normalized();
+    const Real d = n.dot(x1[1] - x1[0]);
+    if (!std::isfinite(d) || d >= thick) return;
+    const Real mu = collider_friction(m, p[0], c.mesh_tri_collider[c.mesh_vertex_first_tri[v]]);
+    Vec3 dv[3], dx[3];
+    if (!inelastic_separation(p, px.w, 3, m, out.v, (x1[0] - x0[0]) / h, n, d, thick, mu, h, dv, dx)) return;
+    for (int k = 0; k < 3; ++k) accumulate_contact(s, p[k], dv[k], dx[k]);
+  });
   continuous_edges(m, in, out, s, mode, h);
   return apply_accumulated(m, out, s);
 }
@@ -395,6 +543,21 @@ void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h)
             Vec3 dv[4];
             if (!cloth_impulse(p, wt, 4, m, out.v, px.n, d, m.particle_thickness[p[0]], mu, h, dv)) return;
             for (int k = 0; k < 4; ++k) accumulate_contact(s, p[k], dv[k], h * dv[k]);
+          },
+          [&](Index t, Index v, const TriangleProximity& px, const Vec3& n, Real d) {
+            const Index* p = &m.tri_index[3 * t];
+            const Real mu = collider_friction(m, p[0], c.mesh_tri_collider[c.mesh_vertex_first_tri[v]]);
+            respond_collider_point(m, out, s, p, px.w, 3, s.collider_x0[v], s.collider_x1[v], n, d,
+                                   triangle_thickness(m, p), mu, h);
+          },
+          [&](Index e, Index g, const EdgeProximity& px, Real d) {
+            const Index p[2] = {c.edge_a[e], c.edge_b[e]};
+            const Real w[2] = {1 - px.s, px.s};
+            const Index ga = c.mesh_edge_a[g], gb = c.mesh_edge_b[g];
+            const Vec3 c0 = (1 - px.t) * s.collider_x0[ga] + px.t * s.collider_x0[gb];
+            const Vec3 c1 = (1 - px.t) * s.collider_x1[ga] + px.t * s.collider_x1[gb];
+            const Real mu = collider_friction(m, p[0], c.mesh_tri_collider[c.mesh_edge_first_tri[g]]);
+            respond_collider_point(m, out, s, p, w, 2, c0, c1, px.n, d, m.particle_thickness[p[0]], mu, h);
           });
     }
     const std::int64_t found = apply_accumulated(m, out, s);
@@ -423,6 +586,14 @@ std::vector<std::array<Index, 3>> list_proximities(const Model& m, const State& 
       [&](Index e, Index f, const EdgeProximity&, Real) {
         std::lock_guard g(lock);
         found.push_back({1, e, f});
+      },
+      [&](Index t, Index v, const TriangleProximity&, const Vec3&, Real) {
+        std::lock_guard g(lock);
+        found.push_back({2, t, v});
+      },
+      [&](Index e, Index g, const EdgeProximity&, Real) {
+        std::lock_guard l(lock);
+        found.push_back({3, e, g});
       });
   std::sort(found.begin(), found.end());
   return found;

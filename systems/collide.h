@@ -20,7 +20,8 @@ void place_colliders(const Model& model, std::int64_t step, Real h, CollisionScr
 void build_broad_phase(const Model& model, const State& in, const State& out, CollisionScratch& s);
 
 // For tests and benchmarks: every proximity pair of the current configuration found through one broad phase,
-// {0, vertex, prim} for vertex-triangle and {1, edge, edge} for edge-edge, sorted. build_broad_phase must have
+// {0, vertex, prim} for vertex-triangle, {1, edge, edge} for edge-edge, {2, cloth triangle, collider vertex}
+// and {3, cloth edge, collider edge} against collider meshes, sorted. build_broad_phase must have
 // run (and for bvh, the model must hold a BVH).
 enum class BroadMode { hash, bvh, brute };
 std::vector<std::array<Index, 3>> list_proximities(const Model& model, const State& in, const State& out,

@@ -142,17 +142,7 @@ TEST_CASE("animated collider: frames are interpolated linearly per step, velocit
   CHECK(ws.collision.collider_x1[1].y() == doctest::Approx(expected1));
 }
 
-namespace {
-// The shared data folder beside the checkout (../shared/data), or beside the folder holding it (a worktree under
-// wt/); CLOTHSIM_SHARED_DATA overrides. Empty when absent: the tests that use it then skip.
-std::filesystem::path shared_data() {
-  if (const char* env = std::getenv("CLOTHSIM_SHARED_DATA")) return env;
-  const std::filesystem::path root = CLOTHSIM_SOURCE_DIR;
-  for (const auto& up : {root.parent_path(), root.parent_path().parent_path()})
-    if (std::filesystem::is_directory(up / "shared" / "data")) return up / "shared" / "data";
-  return {};
-}
-}  // namespace
+using clothsim::test::shared_data;
 
 TEST_CASE("the real animated bodies (shared data, skipped without it): Kick and Rumba read as gzip, unpadded") {
   const auto data = shared_data();

@@ -2,6 +2,7 @@
 // Builds a scene written into a scratch folder the way `clothsim run` does (scene, cloth and collider meshes,
 // Model, collision tables), for the collision tests.
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -29,6 +30,16 @@ inline LoadedCollisionScene load_collision_scene(const std::filesystem::path& xm
   s.built = build_model(s.desc, meshes);
   build_collision(s.desc, io::read_colliders(s.desc), s.built.state.x, s.built.model);
   return s;
+}
+
+// The shared data folder beside the checkout (../shared/data), or beside the folder holding it (a worktree under
+// wt/); CLOTHSIM_SHARED_DATA overrides. Empty when absent: the tests that use it then skip.
+inline std::filesystem::path shared_data() {
+  if (const char* env = std::getenv("CLOTHSIM_SHARED_DATA")) return env;
+  const std::filesystem::path root = CLOTHSIM_SOURCE_DIR;
+  for (const auto& up : {root.parent_path(), root.parent_path().parent_path()})
+    if (std::filesystem::is_directory(up / "shared" / "data")) return up / "shared" / "data";
+  return {};
 }
 
 // Runs every frame of a scene, calling check(frame, model, state, workspace) after each.
