@@ -577,24 +577,16 @@ std::vector<std::array<Index, 3>> list_proximities(const Model& m, const State& 
                                                    CollisionScratch& s, BroadMode mode) {
   std::vector<std::array<Index, 3>> found;
   std::mutex lock;
+  auto add = [&](Index kind, Index a, Index b) {
+    std::lock_guard g(lock);
+    found.push_back({kind, a, b});
+  };
   for_each_proximity(
       m, in, out, s, mode,
-      [&](Index i, Index prim, const PrimCorners&, const TriangleProximity&, Real) {
-        std::lock_guard g(lock);
-        found.push_back({0, i, prim});
-      },
-      [&](Index e, Index f, const EdgeProximity&, Real) {
-        std::lock_guard g(lock);
-        found.push_back({1, e, f});
-      },
-      [&](Index t, Index v, const TriangleProximity&, const Vec3&, Real) {
-        std::lock_guard g(lock);
-        found.push_back({2, t, v});
-      },
-      [&](Index e, Index g, const EdgeProximity&, Real) {
-        std::lock_guard l(lock);
-        found.push_back({3, e, g});
-      });
+      [&](Index i, Index prim, const PrimCorners&, const TriangleProximity&, Real) { add(0, i, prim); },
+      [&](Index e, Index f, const EdgeProximity&, Real) { add(1, e, f); },
+      [&](Index t, Index v, const TriangleProximity&, const Vec3&, Real) { add(2, t, v); },
+      [&](Index e, Index g, const EdgeProximity&, Real) { add(3, e, g); });
   std::sort(found.begin(), found.end());
   return found;
 }
