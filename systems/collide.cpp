@@ -107,21 +107,18 @@ void for_each_collider_vertex_pair(const Model& m, const State& in, const State&
   });
 }
 
-// Cloth edge e (end points a, b) against collider edge g at the end of the step: the closest points within the
-// thickness, pointed back to the side the cloth edge came from when the pair crossed during the step (the
-// cloth-cloth rule). False when apart.
-bool cloth_collider_edge_proximity(const Model& m, const State& in, const State& out, const CollisionScratch& s,
-                                   Index a, Index b, Index g, EdgeProximity& px, Real& d) {
-  const CollisionModel& c = m.collision;
-  const Index ga = c.mesh_edge_a[g], gb = c.mesh_edge_b[g];
-  const Real h = m.particle_thickness[a];
-  const Aabb ea = swept_box(out.x[a], out.x[b]), eb = swept_box(s.collider_x1[ga], s.collider_x1[gb]);
+// Edge x[0]x[1] against edge x[2]x[3] at the end of the step (x1; x0 at its start; pointers, so a pair the
+// boxes reject reads no start position): the closest points within the thickness h, pointed back to the side the
+// first edge came from when the pair crossed during the step. False when apart.
+bool edge_pair_proximity(const Vec3* const x0[4], const Vec3* const x1[4], Real h, EdgeProximity& px, Real& d) {
+  // Cheap reject before the closest points: the end-of-step boxes must come within h.
+  const Aabb ea = swept_box(*x1[0], *x1[1]), eb = swept_box(*x1[2], *x1[3]);
   if (((ea.lo.array() - h) > eb.hi.array()).any() || ((eb.lo.array() - h) > ea.hi.array()).any()) return false;
-  if (!edge_edge_proximity(out.x[a], out.x[b], s.collider_x1[ga], s.collider_x1[gb], px) || px.d >= h) return false;
+  if (!edge_edge_proximity(*x1[0], *x1[1], *x1[2], *x1[3], px) || px.d >= h) return false;
   EdgeProximity start;
   d = px.d;
-  if (edge_edge_proximity(in.x[a], in.x[b], s.collider_x0[ga], s.collider_x0[gb], start) && start.n.dot(px.n) < 0) {
-    px.n = start.n;
+  if (edge_edge_proximity(*x0[0], *x0[1], *x0[2], *x0[3], start) && start.n.dot(px.n) < 0) {
+    px.n = start.n;  // crossed during the step: push back to the side it came from
     d = -px.d;
   }
   return true;
@@ -196,9 +193,12 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
         for (int k = 0; k < 3; ++k) {
           const Index g = c.mesh_tri_edge[3 * tri + k];
           if (c.mesh_edge_first_tri[g] != tri) continue;
+          const Index ga = c.mesh_edge_a[g], gb = c.mesh_edge_b[g];
+          const Vec3* const x0[4] = {&in.x[a], &in.x[b], &s.collider_x0[ga], &s.collider_x0[gb]};
+          const Vec3* const x1[4] = {&out.x[a], &out.x[b], &s.collider_x1[ga], &s.collider_x1[gb]};
           EdgeProximity px;
           Real d;
-          if (cloth_collider_edge_proximity(m, in, out, s, a, b, g, px, d)) on_collider_edge(e, g, px, d);
+          if (edge_pair_proximity(x0, x1, h, px, d)) on_collider_edge(e, g, px, d);
         }
         return;
       }
@@ -209,18 +209,11 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
         const Index fa = c.edge_a[f], fb = c.edge_b[f];
         if (fa == a || fa == b || fb == a || fb == b) continue;
         if (!c.cloths_collide(c.particle_cloth[a], c.particle_cloth[fa])) continue;
-        // Cheap reject before the closest points: the end-of-step boxes must come within h.
-        const Aabb ea = swept_box(out.x[a], out.x[b]), eb = swept_box(out.x[fa], out.x[fb]);
-        if (((ea.lo.array() - h) > eb.hi.array()).any() || ((eb.lo.array() - h) > ea.hi.array()).any()) continue;
+        const Vec3* const x0[4] = {&in.x[a], &in.x[b], &in.x[fa], &in.x[fb]};
+        const Vec3* const x1[4] = {&out.x[a], &out.x[b], &out.x[fa], &out.x[fb]};
         EdgeProximity px;
-        if (!edge_edge_proximity(out.x[a], out.x[b], out.x[fa], out.x[fb], px) || px.d >= h) continue;
-        EdgeProximity start;
-        Real d = px.d;
-        if (edge_edge_proximity(in.x[a], in.x[b], in.x[fa], in.x[fb], start) && start.n.dot(px.n) < 0) {
-          px.n = start.n;  // crossed during the step: push back to the side it came from
-          d = -px.d;
-        }
-        on_edge(e, f, px, d);
+        Real d;
+        if (edge_pair_proximity(x0, x1, h, px, d)) on_edge(e, f, px, d);
       }
     });
   });
