@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <functional>
+#include <limits>
 
 #include "systems/parallel.h"
 
@@ -48,7 +49,7 @@ namespace {
 // The cells [lo, hi] the prim's clipped box covers at 1/inv; false for a box outside the query bounds or beyond
 // the representable cells (+-2^20 an axis: a cloth blown far away or to infinity, where cell_of would clamp and
 // no cell size would shrink the count). Both passes of build_spatial_hash ask this, so they agree on every prim,
-// and a larger cell brings every finite box within range, so the budget of hash_inv_cell is always met.
+// and a larger cell brings every finite box within range, so the budget of choose_cell_and_count is always met.
 bool hashed_cells(const CollisionScratch& s, Index slot, Real inv, Cell& lo, Cell& hi) {
   Aabb box;
   if (!clip(s.prim_box[slot], s.query_bounds, box) || !within_cell_range(box, inv)) return false;
@@ -69,22 +70,29 @@ std::int64_t cells_of(const CollisionScratch& s, Index slot, Real inv) {
 // within a frame swells its boxes before the frame's divergence check (exit 3) can stop the run; at the model's
 // cell one box could cover 2^63 cells, and the entry arrays grew to 11.8 GB before the process was killed. Any
 // cell size finds the same pairs (only the candidates per cell grow), and the choice depends on integer counts
-// alone, so it is the same at any thread count. A sane step needs about 7 entries a prim.
-Real hash_inv_cell(const CollisionModel& c, const CollisionScratch& s) {
+// alone, so it is the same at any thread count. A sane step needs about 7 entries a prim. Each prim's count at
+// the chosen cell is left in s.hash.prim_cells (every count fits: their sum is within the budget), so the hash
+// does not count them again.
+Real choose_cell_and_count(const CollisionModel& c, CollisionScratch& s) {
   const Index prims = Index(c.prim.size());
   const std::int64_t entry_budget = 64 * std::int64_t(prims) + 65536;
+  std::vector<Index>& counts = s.hash.prim_cells;
   Real inv = 1 / c.cell_size;
-  for (int doubling = 0; doubling < 64; ++doubling, inv /= 2) {
+  for (int doubling = 0;; ++doubling, inv /= 2) {
     const std::int64_t total = tbb::parallel_reduce(
         tbb::blocked_range<Index>(0, prims, prim_grain), std::int64_t(0),
         [&](const tbb::blocked_range<Index>& r, std::int64_t sum) {
-          for (Index slot = r.begin(); slot != r.end(); ++slot) sum += cells_of(s, slot, inv);
+          for (Index slot = r.begin(); slot != r.end(); ++slot) {
+            const std::int64_t n = cells_of(s, slot, inv);
+            counts[slot] = Index(std::min<std::int64_t>(n, std::numeric_limits<Index>::max()));
+            sum += n;
+          }
           return sum;
         },
         std::plus<std::int64_t>());
-    if (total <= entry_budget) break;
+    // 21 doublings bring any box within range (+-2^20 cells) to at most 8 cells; 63 is a bound, not a case.
+    if (total <= entry_budget || doubling == 63) return inv;
   }
-  return inv;
 }
 
 }  // namespace
@@ -92,9 +100,8 @@ Real hash_inv_cell(const CollisionModel& c, const CollisionScratch& s) {
 void build_spatial_hash(const CollisionModel& c, CollisionScratch& s) {
   HashScratch& hs = s.hash;
   const Index prims = Index(c.prim.size());
-  const Real inv = hash_inv_cell(c, s);
+  const Real inv = choose_cell_and_count(c, s);
   hs.inv_cell = inv;
-  parallel_over(prims, prim_grain, [&](Index slot) { hs.prim_cells[slot] = Index(cells_of(s, slot, inv)); });
   const Index entries = exclusive_scan(hs.prim_cells, prims);
   hs.prim_cells[prims] = entries;
   hs.entry_count = entries;
