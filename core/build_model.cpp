@@ -132,8 +132,10 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
     const ParamField stiffness = vertex_field(scene, cd, mesh, vp.stiffness, cd.stiffness, "stiffness map");
     const ParamField damping = vertex_field(scene, cd, mesh, vp.damping, cd.damping, "damping map");
     const ParamField vertex_thickness = vertex_field(scene, cd, mesh, vp.thickness, cd.thickness, "thickness map");
-    for (Index i = 0; i < mesh.vertex_count(); ++i) thickness.push(vertex_thickness[i]);
-    for (Index i = 0; i < mesh.vertex_count(); ++i) stretch.push(stiffness[i]);
+    for (Index i = 0; i < mesh.vertex_count(); ++i) {
+      thickness.push(vertex_thickness[i]);
+      stretch.push(stiffness[i]);
+    }
     // With a thickness map the cloth's one figure is its largest thickness (a safe bound for collision queries).
     info.thickness = vertex_thickness[0];
     for (Index i = 0; i < mesh.vertex_count(); ++i) info.thickness = std::max(info.thickness, vertex_thickness[i]);
