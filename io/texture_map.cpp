@@ -50,6 +50,41 @@ int largest_jpeg_huffman_table(const std::string& b) {
   return largest;
 }
 
+// The name of an image format that stb_image decodes but clothsim does not read (GIF, PSD, PIC, PNM, HDR), from
+// the magic bytes stb's own tests look for; "" otherwise. Refusing them here keeps stb's less-used decoders
+// away from hostile files: the documented formats are PNG, JPEG, TGA and BMP (docs/maps.md).
+std::string unsupported_format(const std::string& b) {
+  const auto starts = [&](const char* magic, std::size_t n) { return b.compare(0, n, magic, n) == 0; };
+  if (starts("GIF8", 4)) return "GIF";
+  if (starts("8BPS", 4)) return "Photoshop (PSD)";
+  if (starts("\x53\x80\xF6\x34", 4)) return "Softimage PIC";
+  if (starts("P5", 2) || starts("P6", 2)) return "PNM";
+  if (starts("#?RADIANCE", 10) || starts("#?RGBE", 6)) return "Radiance HDR";
+  return "";
+}
+
+// The first PNG chunk, in stb's reading order, whose declared length runs past the end of the file; "" when
+// every chunk up to IEND (or the end) fits, or the file is not a PNG. Debian's stb_image grows its IDAT buffer
+// to a chunk's declared length (doubling) before reading it, so a 100-byte file declaring a 1.7 GB IDAT
+// allocated 2 GiB (found by fuzz_texture_reader: tests/fuzz/texture/crash-png-idat-length-past-end.png).
+// A chunk is length (4, big-endian), type (4), data (length), CRC (4).
+std::string png_chunk_past_end(const std::string& b) {
+  static const std::string signature = "\x89PNG\r\n\x1a\n";
+  if (b.compare(0, signature.size(), signature) != 0) return "";
+  std::size_t pos = signature.size();
+  while (pos + 8 <= b.size()) {
+    std::uint64_t length = 0;
+    for (int k = 0; k < 4; ++k) length = length * 256 + static_cast<unsigned char>(b[pos + k]);
+    const std::string type = b.substr(pos + 4, 4);
+    if (pos + 12 + length > b.size())
+      return "chunk " + type + " at byte " + std::to_string(pos) + " declares " + std::to_string(length) +
+             " bytes of data, past the end of the file (" + std::to_string(b.size()) + " bytes)";
+    if (type == "IEND") return "";
+    pos += 12 + length;
+  }
+  return "";
+}
+
 }  // namespace
 
 GreyImage read_grey_image(const std::string& path) {
@@ -64,6 +99,10 @@ GreyImage read_grey_image(const std::string& path) {
   if (const int codes = largest_jpeg_huffman_table(bytes); codes > 256)
     throw Error(path, "JPEG Huffman table of " + std::to_string(codes) +
                           " codes, more than a table holds (256): the file is corrupt" + expected);
+  if (const std::string format = unsupported_format(bytes); !format.empty())
+    throw Error(path, format + " image, a format clothsim does not read" + expected);
+  if (const std::string chunk = png_chunk_past_end(bytes); !chunk.empty())
+    throw Error(path, "PNG " + chunk + ": the file is truncated or corrupt" + expected);
   const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
   const int size = static_cast<int>(bytes.size());
 

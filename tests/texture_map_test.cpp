@@ -176,3 +176,44 @@ TEST_CASE("an image may pack at most 8256 pixels a byte: a real PNG is read, a f
   }
   CHECK(what.find("forged.png: image of 1024 x 1024 pixels in 45 bytes") != std::string::npos);
 }
+
+TEST_CASE("a PNG chunk longer than the rest of the file is refused before stb allocates for it") {
+  const auto dir = scratch_dir("map_chunk");
+  // A valid 4 x 4 PNG whose IDAT (at byte 33, after the signature and the 25-byte IHDR chunk) declares
+  // 0x6500001F = 1,694,498,847 bytes: stb would grow its buffer to 2 GiB before finding the data missing.
+  std::string png = encode_png(4, 4, 1, 8, std::vector<std::uint16_t>(16, 100));
+  REQUIRE(png.substr(37, 4) == "IDAT");
+  const std::size_t size = png.size();
+  png[33] = char(0x65), png[34] = 0, png[35] = 0, png[36] = char(0x1f);
+  write_text(dir / "long.png", png);
+  std::string what = "accepted";
+  try {
+    io::read_grey_image((dir / "long.png").string());
+  } catch (const Error& e) {
+    what = e.what();
+  }
+  CHECK(what.find("long.png: PNG chunk IDAT at byte 33 declares 1694498847 bytes of data, past the end of the file (" +
+                  std::to_string(size) + " bytes)") != std::string::npos);
+}
+
+TEST_CASE("stb_image's other formats (GIF, PSD, PIC, PNM, HDR) are refused by their magic bytes") {
+  const auto dir = scratch_dir("map_formats");
+  const std::pair<const char*, std::string> files[] = {
+      {"GIF", std::string("GIF89a\x01\x00\x01\x00\x00\x00\x00", 13)},
+      {"Photoshop (PSD)", std::string("8BPS\x00\x01", 6)},
+      {"Softimage PIC", std::string("\x53\x80\xF6\x34", 4) + std::string(84, '\0') + "PICT"},
+      {"PNM", "P5\n1 1\n255\n\x80"},
+      {"Radiance HDR", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 1\n\x80\x80\x80\x80"},
+  };
+  for (const auto& [format, bytes] : files) {
+    CAPTURE(format);
+    write_text(dir / "map.img", bytes);
+    std::string what = "accepted";
+    try {
+      io::read_grey_image((dir / "map.img").string());
+    } catch (const Error& e) {
+      what = e.what();
+    }
+    CHECK(what.find(std::string("map.img: ") + format + " image, a format clothsim does not read") != std::string::npos);
+  }
+}
