@@ -24,6 +24,10 @@ struct Sym3 {
     a << xx, xy, xz, xy, yy, yz, xz, yz, zz;
     return a;
   }
+  Sym3& operator+=(const Sym3& o) {
+    xx += o.xx, yy += o.yy, zz += o.zz, xy += o.xy, xz += o.xz, yz += o.yz;
+    return *this;
+  }
   Vec3 operator*(const Vec3& p) const {
     return {xx * p.x() + xy * p.y() + xz * p.z(), xy * p.x() + yy * p.y() + yz * p.z(),
             xz * p.x() + yz * p.y() + zz * p.z()};

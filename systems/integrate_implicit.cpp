@@ -45,19 +45,20 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
       return;
     }
     const Real mass = 1 / inv_m;
-    Mat3 block = (mass * (1 + h * m.air_damping)) * Mat3::Identity();
-    if (wind) block += (h * m.wind_strength * m.particle_area[i]) * (ws.normal[i] * ws.normal[i].transpose());
+    Mat3 g = (mass * (1 + h * m.air_damping)) * Mat3::Identity();
+    if (wind) g += (h * m.wind_strength * m.particle_area[i]) * (ws.normal[i] * ws.normal[i].transpose());
+    Sym3 block = Sym3::from(g);
     Vec3 kv = Vec3::Zero();  // ((df/dx) v)_i = sum over springs (i, j) of df_i/dx_j (v_j - v_i)
     for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
       const Index e = m.particle_spring_index[k];
       const Index s = e >= 0 ? e : ~e;
-      block += ws.spring_block[s].full();
+      block += ws.spring_block[s];
       if (first) {
         const Index a = m.spring_a[s], b = m.spring_b[s], j = e >= 0 ? b : a;
-        kv += spring_jacobian(x[a], x[b], m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]).dfdx * (v[j] - v[i]);
+        kv += spring_dfdx_times(x[a], x[b], m.spring_rest[s], m.spring_ke[s], v[j] - v[i]);
       }
     }
-    ws.cg_precond[i] = Sym3::from(block.inverse());  // symmetric up to round-off: its lower triangle
+    ws.cg_precond[i] = Sym3::from(block.full().inverse());  // symmetric up to round-off: its lower triangle
     ws.cg_r[i] = first ? Vec3(h * mass * ws.f[i] + (h * h) * kv) : Vec3(h * mass * ws.f[i] - mass * ws.dv[i]);
   });
 }

@@ -1,6 +1,7 @@
 #include <doctest/doctest.h>
 
 #include <Eigen/Eigenvalues>
+#include <utility>
 
 #include "systems/spring_forces.h"
 #include "systems/spring_jacobian.h"
@@ -78,4 +79,19 @@ TEST_CASE("a spring's system block is exactly symmetric, so its six stored entri
   const Vec3 p(0.7, -1.9, 2.3);
   CHECK((stored * p - block * p).norm() <= 1e-15 * (block * p).norm());
   CHECK((block * p).norm() > 0.05);  // a block that does something
+}
+
+TEST_CASE("dfdx applied to a vector without the matrix equals the Jacobian's product, stretched and compressed") {
+  const Vec3 w(0.7, -1.9, 2.3);
+  const std::pair<Vec3, Real> cases[] = {{Vec3(1.3, 0.4, -0.7), 0.9},   // stretched 54%: transverse term on
+                                         {Vec3(0.3, 0.4, 0.0), 1.0},    // compressed: clamped to n n^T
+                                         {Vec3(0.0, 0.0, 0.0), 1.0}};   // zero length: nothing
+  const Vec3 xa(0.1, -0.2, 0.3);
+  for (const auto& [d, rest] : cases) {
+    const Vec3 xb = xa + d;
+    const Vec3 matrix = spring_jacobian(xa, xb, rest, 250, 1.5).dfdx * w;
+    const Vec3 direct = spring_dfdx_times(xa, xb, rest, 250, w);
+    CHECK((direct - matrix).norm() <= 1e-13 * std::max(1.0, matrix.norm()));
+  }
+  CHECK(spring_dfdx_times(xa, xa + Vec3(1.3, 0.4, -0.7), 0.9, 250, w).norm() > 100);  // it does something
 }
