@@ -22,21 +22,13 @@ void build_spring_blocks(const Model& m, std::span<const Vec3> x, Real h, Worksp
   });
 }
 
-// The block of A outside the springs, applied to p: mass and air damping (m (1 + h c)) and wind h k_w A n n^T.
-Vec3 apply_particle_block(const Model& m, Index i, Real mass, Real h, const Workspace& ws, const Vec3& p) {
-  Vec3 q = (mass * (1 + h * m.air_damping)) * p;
-  if (m.wind_strength != 0) q += (h * m.wind_strength * m.particle_area[i] * ws.normal[i].dot(p)) * ws.normal[i];
-  return q;
-}
-
 // Per particle, gathered over its incident springs (no scatter): the inverse of the diagonal block of A
 // (block-Jacobi) and the right-hand side into ws.cg_r. First solve: b = h f + h^2 (df/dx) v (eq. 15-16), the
-// (df/dx) v term recomputed from each incident spring's Jacobian (once a step; no per-spring buffer); later Newton solves:
-// b = h f(x_k, v_k) - M dv_k, the backward-Euler residual. ws.f holds accelerations: m a = f for free particles.
+// (df/dx) v term recomputed from each incident spring (spring_dfdx_times; once a step, no per-spring buffer);
+// later Newton solves: b = h f(x_k, v_k) - M dv_k, the backward-Euler residual. ws.f holds accelerations: m a = f for free particles.
 // Pinned particles get zero everywhere: the filter S = 0 of Baraff & Witkin §5.3.
 void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Real h, bool first,
                           Workspace& ws) {
-  const bool wind = m.wind_strength != 0;
   parallel_over(m.particle_count, particle_grain, [&](Index i) {
     const Real inv_m = m.particle_inv_mass[i];
     if (!(inv_m > 0)) {
@@ -45,9 +37,7 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
       return;
     }
     const Real mass = 1 / inv_m;
-    Mat3 g = (mass * (1 + h * m.air_damping)) * Mat3::Identity();
-    if (wind) g += (h * m.wind_strength * m.particle_area[i]) * (ws.normal[i] * ws.normal[i].transpose());
-    Sym3 block = Sym3::from(g);
+    Sym3 block = Sym3::from(particle_system_block(m, i, mass, h, ws));
     Vec3 kv = Vec3::Zero();  // ((df/dx) v)_i = sum over springs (i, j) of df_i/dx_j (v_j - v_i)
     for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
       const Index e = m.particle_spring_index[k];
@@ -60,32 +50,6 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
     }
     ws.cg_precond[i] = Sym3::from(block.full().inverse());  // symmetric up to round-off: its lower triangle
     ws.cg_r[i] = first ? Vec3(h * mass * ws.f[i] + (h * h) * kv) : Vec3(h * mass * ws.f[i] - mass * ws.dv[i]);
-  });
-}
-
-// q = A p, gathered per particle: (A p)_i = D_i p_i + sum over springs s = (i, j) of B_s (p_i - p_j).
-// p is zero on pinned particles, so their columns drop out; their rows are set to zero.
-void apply_system(const Model& m, std::span<const Vec3> x, Real h, ImplicitLayout layout, const Workspace& ws,
-                  std::span<const Vec3> p, std::span<Vec3> q) {
-  parallel_over(m.particle_count, particle_grain, [&](Index i) {
-    if (!(m.particle_inv_mass[i] > 0)) {
-      q[i] = Vec3::Zero();
-      return;
-    }
-    Vec3 sum = apply_particle_block(m, i, 1 / m.particle_inv_mass[i], h, ws, p[i]);
-    for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
-      const Index e = m.particle_spring_index[k];
-      const Index s = e >= 0 ? e : ~e;
-      const Index j = e >= 0 ? m.spring_b[s] : m.spring_a[s];
-      if (layout == ImplicitLayout::spring_blocks) {
-        sum += ws.spring_block[s] * (p[i] - p[j]);
-      } else {
-        const Index a = m.spring_a[s], b = m.spring_b[s];
-        const SpringJacobian jac = spring_jacobian(x[a], x[b], m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]);
-        sum += spring_system_block(jac, h) * (p[i] - p[j]);
-      }
-    }
-    q[i] = sum;
   });
 }
 

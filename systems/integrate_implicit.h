@@ -6,14 +6,9 @@
 #include <span>
 
 #include "core/model.h"
+#include "systems/implicit_system.h"
 
 namespace clothsim {
-
-// How CG applies the matrix (docs/performance.md, "Implicit integration", compares them).
-enum class ImplicitLayout {
-  spring_blocks,  // the h kd n n^T + h^2 df/dx block of each spring built once per solve, read by every CG product
-  recompute,      // matrix-free: each CG product recomputes the spring blocks from the positions
-};
 
 struct CgResult {
   int iterations = 0;
