@@ -80,6 +80,7 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
   m.cg_tolerance = sim.cg_tolerance;
   m.cg_max_iterations = sim.cg_max_iterations;
   m.newton_iterations = sim.newton_iterations;
+  m.preconditioner = sim.preconditioner;
 
   // Arrays are reserved to their final size: growing by doubling would briefly hold twice a large array.
   std::size_t total_vertices = 0, total_tris = 0;
@@ -250,6 +251,10 @@ Workspace make_workspace(const Model& model) {
     ws.cg_precond.assign(model.particle_count, Sym3{});
     ws.spring_block.assign(model.spring_count, Sym3{});
     ws.solve_log.reserve(std::size_t(model.steps_per_frame));
+    if (model.preconditioner == Preconditioner::multigrid) {
+      ws.cg_z.assign(model.particle_count, Vec3::Zero());
+      ws.multigrid = build_multigrid_levels(model);
+    }
   }
   if (model.strain_limited) ws.strain_correction.assign(model.spring_count, Vec3::Zero());
   make_collision_workspace(model, ws.collision);

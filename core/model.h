@@ -8,6 +8,7 @@
 
 #include "core/collision_model.h"
 #include "core/math.h"
+#include "core/multigrid_levels.h"
 #include "core/param_field.h"
 #include "core/scene_desc.h"
 
@@ -108,6 +109,7 @@ struct Model {
   Real cg_tolerance = 1e-6;             // implicit: relative CG residual |r|/|b| to stop at
   int cg_max_iterations = 1000;         // implicit: CG iteration cap per linear solve
   int newton_iterations = 1;            // implicit: linear solves per step
+  Preconditioner preconditioner = Preconditioner::multigrid;  // implicit: of the CG (systems/multigrid.h)
 
   std::vector<ClothInfo> cloths;
   CollisionModel collision;             // empty unless the scene has colliders or self-collision
@@ -131,6 +133,9 @@ struct Workspace {
   std::vector<Vec3> dv, cg_x, cg_r, cg_p, cg_q;  // velocity change; CG solution, residual, search, A p
   std::vector<Sym3> cg_precond;    // inverse of the system's diagonal 3x3 block, 0 for pinned (particle_count)
   std::vector<Sym3> spring_block;  // h kd n n^T + h^2 dfa/dxb of each spring, symmetric (spring_count)
+  // multigrid preconditioner: its output z = B r (particle_count, or 0 without it) and its levels
+  std::vector<Vec3> cg_z;
+  Multigrid multigrid;
   struct SolveRecord {
     int cg_iterations = 0;         // summed over the Newton iterations of the step
     Real cg_residual = 0;          // |r|/|b| at the end of the last solve

@@ -10,6 +10,8 @@
 namespace clothsim {
 
 enum class Integrator { euler, symplectic, rk4, implicit };
+// Preconditioner of the implicit step's CG (systems/multigrid.h; docs/stability.md).
+enum class Preconditioner { jacobi, multigrid };
 // Broad phase of the collision stage (docs/performance.md compares them).
 enum class BroadPhase { hash, bvh };
 
@@ -26,6 +28,7 @@ struct SimulationDesc {
   Real cg_tolerance = 1e-6;
   int cg_max_iterations = 1000;
   int newton_iterations = 1;
+  Preconditioner preconditioner = Preconditioner::multigrid;
   BroadPhase broad_phase = BroadPhase::hash;
   int checkpoint_every = 0;    // frames between checkpoints (and one at the end); 0: none (io/checkpoint.h)
   bool cloth_collision = true; // different cloths collide with each other (a cloth with itself: selfCollision)

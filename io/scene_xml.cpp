@@ -167,7 +167,7 @@ void read_param(const ElementReader& r, const std::string& base, Real& value, Pa
 void read_simulation(const std::string& file, const std::string& text, pugi::xml_node n, SimulationDesc& sim) {
   ElementReader r(file, text, n,
                   {"timestep", "fps", "startFrame", "endFrame", "integrator", "gravity", "collisionIterations",
-                   "cgTolerance", "cgMaxIterations", "newtonIterations",
+                   "cgTolerance", "cgMaxIterations", "newtonIterations", "preconditioner",
                    "broadPhase", "checkpointEvery", "clothCollision"});
   sim.timestep = r.positive("timestep", sim.timestep, "s");
   sim.fps = r.positive("fps", sim.fps, "frames per second");
@@ -193,6 +193,12 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
   if (sim.cg_max_iterations < 1) r.bad("cgMaxIterations", "an integer >= 1");
   sim.newton_iterations = r.integer("newtonIterations", sim.newton_iterations);
   if (sim.newton_iterations < 1) r.bad("newtonIterations", "an integer >= 1");
+  if (r.has("preconditioner")) {
+    const std::string preconditioner = r.text("preconditioner");
+    if (preconditioner == "jacobi") sim.preconditioner = Preconditioner::jacobi;
+    else if (preconditioner == "multigrid") sim.preconditioner = Preconditioner::multigrid;
+    else r.bad("preconditioner", "jacobi or multigrid");
+  }
   const std::string broad = r.text("broadPhase", "hash");
   if (broad == "hash") sim.broad_phase = BroadPhase::hash;
   else if (broad == "bvh") sim.broad_phase = BroadPhase::bvh;

@@ -20,7 +20,10 @@ std::string format_stats(const Model& m, const RunStats& s) {
   j.field("integrator", std::string_view(integrators[int(m.integrator)]));
   j.field("dt", m.dt).field("steps_per_frame", m.steps_per_frame).field("steps", s.steps);
   j.field("force_evaluations", s.force_evaluations).field("threads", s.threads);
-  if (m.integrator == Integrator::implicit) j.field("cg_iterations", s.cg_iterations);
+  if (m.integrator == Integrator::implicit) {
+    j.field("preconditioner", std::string_view(m.preconditioner == Preconditioner::multigrid ? "multigrid" : "jacobi"));
+    j.field("cg_iterations", s.cg_iterations);
+  }
   if (m.strain_limited) j.field("strain_limit_iterations", s.strain_limit_iterations);
   j.field("frames_written", s.frames_written).field("wall_seconds", s.wall_seconds);
   j.key("phases").begin_object()

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "systems/forces.h"
+#include "systems/multigrid.h"
 #include "systems/parallel.h"
 #include "systems/reduce.h"
 #include "systems/spring_jacobian.h"
@@ -53,16 +54,23 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
   });
 }
 
-}  // namespace
-
-CgResult solve_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h, ImplicitLayout layout) {
+// Preconditioned CG (Shewchuk 1994, B2) from y = 0, stopping at |r| <= tol |b|. The preconditioner z = B r is
+// block-Jacobi, applied per particle where needed (z is not stored), or the multigrid cycle into ws.cg_z.
+template <Preconditioner Kind>
+CgResult run_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h, ImplicitLayout layout) {
+  constexpr bool cycle = Kind == Preconditioner::multigrid;
   const Index n = m.particle_count;
-  auto &y = ws.cg_x, &r = ws.cg_r, &p = ws.cg_p, &q = ws.cg_q;
+  auto &y = ws.cg_x, &r = ws.cg_r, &p = ws.cg_p, &q = ws.cg_q, &z = ws.cg_z;
   const auto& precond = ws.cg_precond;
-  // y0 = 0, so r0 = b; z0 = P r0; p0 = z0. z = P r is recomputed where needed rather than stored.
+  auto z_at = [&](Index i) -> Vec3 {
+    if constexpr (cycle) return z[i];
+    else return precond[i] * r[i];
+  };
+  if constexpr (cycle) apply_multigrid(m, x, h, layout, ws, r, z);
+  // y0 = 0, so r0 = b; z0 = B r0; p0 = z0.
   const Sums2 start = deterministic_sum(n, particle_grain, Sums2(Sums2::Zero()), [&](Index i) {
     y[i] = Vec3::Zero();
-    p[i] = precond[i] * r[i];
+    p[i] = z_at(i);
     return Sums2(r[i].squaredNorm(), r[i].dot(p[i]));
   });
   const Real bb = start[0];
@@ -84,16 +92,29 @@ CgResult solve_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h
     const Sums2 next = deterministic_sum(n, particle_grain, Sums2(Sums2::Zero()), [&](Index i) {
       y[i] += alpha * p[i];
       r[i] -= alpha * q[i];
-      return Sums2(r[i].squaredNorm(), r[i].dot(precond[i] * r[i]));
+      return Sums2(r[i].squaredNorm(), cycle ? 0 : r[i].dot(z_at(i)));
     });
-    const Real beta = next[1] / rz;
     rr = next[0];
-    rz = next[1];
-    parallel_over(n, particle_grain, [&](Index i) { p[i] = precond[i] * r[i] + beta * p[i]; });
     ++res.iterations;
+    if (!(rr > stop)) break;  // converged: the next direction (and its cycle) would go unused
+    Real rz_next = next[1];
+    if constexpr (cycle) {
+      apply_multigrid(m, x, h, layout, ws, r, z);
+      rz_next = deterministic_sum(n, particle_grain, Real(0), [&](Index i) { return r[i].dot(z[i]); });
+    }
+    const Real beta = rz_next / rz;
+    rz = rz_next;
+    parallel_over(n, particle_grain, [&](Index i) { p[i] = z_at(i) + beta * p[i]; });
   }
   res.residual = std::sqrt(rr / bb);
   return res;
+}
+
+}  // namespace
+
+CgResult solve_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h, ImplicitLayout layout) {
+  return m.preconditioner == Preconditioner::multigrid ? run_cg<Preconditioner::multigrid>(m, x, ws, h, layout)
+                                                       : run_cg<Preconditioner::jacobi>(m, x, ws, h, layout);
 }
 
 void integrate_implicit(const Model& m, const State& in, State& out, Workspace& ws, Real h, ImplicitLayout layout) {
@@ -108,6 +129,7 @@ void integrate_implicit(const Model& m, const State& in, State& out, Workspace& 
     build_spring_blocks(m, x, h, ws);
     if (first) parallel_over(n, particle_grain, [&](Index i) { ws.dv[i] = Vec3::Zero(); });
     build_particle_terms(m, x, v, h, first, ws);
+    if (m.preconditioner == Preconditioner::multigrid) build_multigrid_operators(m, h, ws);
     const CgResult cg = solve_cg(m, x, ws, h, layout);
     record.cg_iterations += cg.iterations;
     record.cg_residual = cg.residual;

@@ -1,8 +1,9 @@
 #pragma once
 // Backward Euler after Baraff & Witkin 1998 (eq. 15-16): linearise the forces about the current state and solve
 //   (M - h df/dv - h^2 df/dx) dv = h (f + h df/dx v)
-// for the velocity change with a block-Jacobi preconditioned conjugate gradient (their §5.3, with the
-// constraint filter of §5.3 for pinned particles: their rows and columns are projected out, S = 0).
+// for the velocity change with a preconditioned conjugate gradient (their §5.3, with the constraint filter of §5.3
+// for pinned particles: their rows and columns are projected out, S = 0). The preconditioner is block-Jacobi (theirs)
+// or an aggregation multigrid cycle (systems/multigrid.h), as the scene's preconditioner says.
 #include <span>
 
 #include "core/model.h"
@@ -22,8 +23,8 @@ void integrate_implicit(const Model& model, const State& in, State& out, Workspa
                         ImplicitLayout layout = ImplicitLayout::spring_blocks);
 
 // One preconditioned CG solve of A y = b, b already in ws.cg_r, y left in ws.cg_x; x are the positions the
-// springs are linearised about (read by the recompute layout). Builds nothing: ws.spring_block and
-// ws.cg_precond must be current. Exposed for the benchmark.
+// springs are linearised about (read by the recompute layout). Builds nothing: ws.spring_block, ws.cg_precond
+// and (multigrid) the levels' operators must be current. Exposed for the benchmark.
 CgResult solve_cg(const Model& model, std::span<const Vec3> x, Workspace& ws, Real h, ImplicitLayout layout);
 
 }  // namespace clothsim

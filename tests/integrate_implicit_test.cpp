@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 
+#include "dense_system.h"
 #include "spring_fixtures.h"
 #include "systems/diagnostics.h"
 #include "systems/forces.h"
@@ -49,41 +50,6 @@ Real largest_difference(const State& in, const State& out, const Eigen::VectorXd
   return worst;
 }
 
-// Dense reference system of one step (Baraff & Witkin eq. 15-16): A = M - h df/dv - h^2 df/dx,
-// b = h (f + h df/dx v), with the rows and columns of pinned particles replaced by the identity and b = 0 there.
-std::pair<Eigen::MatrixXd, Eigen::VectorXd> dense_system(const Model& m, const State& st, Real h) {
-  const Index n = m.particle_count;
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(3 * n, 3 * n), D = K;
-  Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * n), v(3 * n), mass = f;
-  for (Index i = 0; i < n; ++i) {
-    v.segment<3>(3 * i) = st.v[i];
-    if (m.particle_inv_mass[i] > 0) {
-      mass.segment<3>(3 * i).setConstant(1 / m.particle_inv_mass[i]);
-      f.segment<3>(3 * i) += m.gravity / m.particle_inv_mass[i];
-    }
-  }
-  for (Index k = 0; k < m.spring_count; ++k) {
-    const Index a = m.spring_a[k], b = m.spring_b[k];
-    const SpringJacobian j = spring_jacobian(st.x[a], st.x[b], m.spring_rest[k], m.spring_ke[k], m.spring_kd[k]);
-    const Vec3 fa = spring_force(st.x[a], st.x[b], st.v[a], st.v[b], m.spring_rest[k], m.spring_ke[k], m.spring_kd[k]);
-    f.segment<3>(3 * a) += fa;
-    f.segment<3>(3 * b) -= fa;
-    for (auto [p, q, sign] : {std::tuple{a, a, -1.0}, {b, b, -1.0}, {a, b, 1.0}, {b, a, 1.0}}) {
-      K.block<3, 3>(3 * p, 3 * q) += sign * j.dfdx;
-      D.block<3, 3>(3 * p, 3 * q) += sign * j.dfdv;
-    }
-  }
-  Eigen::MatrixXd A = Eigen::MatrixXd(mass.asDiagonal()) - h * D - h * h * K;
-  Eigen::VectorXd rhs = h * (f + h * K * v);
-  for (Index p : m.pinned) {
-    A.middleRows(3 * p, 3).setZero();
-    A.middleCols(3 * p, 3).setZero();
-    A.block<3, 3>(3 * p, 3 * p).setIdentity();
-    rhs.segment<3>(3 * p).setZero();
-  }
-  return {A, rhs};
-}
-
 // Textbook preconditioned CG (Shewchuk 1994, B2) on the dense system from y = 0, stopping at |r| <= tol |b|;
 // P is applied as the inverse of the 3x3 diagonal blocks of A (block_jacobi) or as the identity. Its iterations.
 int dense_pcg_iterations(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, Real tol, bool block_jacobi) {
@@ -119,28 +85,39 @@ TEST_CASE("implicit Euler converges at first order on the two-particle spring") 
 }
 
 TEST_CASE("one implicit step equals a dense solve of Baraff & Witkin eq. 15-16 on a small sheet") {
-  BuiltScene s = damped_implicit_sheet(5, 4, 1e-13);
-  Model& m = s.model;
-  const Index n = m.particle_count;
-  // A stretched, moving state, so the transverse terms and the damping Jacobian all matter.
-  for (Index i = 0; i < n; ++i) {
-    s.state.x[i] *= 1.15;
-    s.state.x[i].z() += 0.02 * std::sin(1.7 * i);
-    if (m.particle_inv_mass[i] > 0) s.state.v[i] = Vec3(std::sin(0.3 * i), std::cos(0.7 * i), 0.5 * std::sin(i));
-  }
-  const Real h = 0.02;
-  Workspace ws = make_workspace(m);
-  State out = s.state;
-  step(m, s.state, out, ws, h);
+  // Block-Jacobi, and the multigrid cycle on three levels of aggregates: the preconditioner changes the path, not
+  // the solution.
+  for (Preconditioner pc : {Preconditioner::jacobi, Preconditioner::multigrid}) {
+    CAPTURE(int(pc));
+    BuiltScene s = damped_implicit_sheet(5, 4, 1e-13);
+    Model& m = s.model;
+    m.preconditioner = pc;
+    const Index n = m.particle_count;
+    // A stretched, moving state, so the transverse terms and the damping Jacobian all matter.
+    for (Index i = 0; i < n; ++i) {
+      s.state.x[i] *= 1.15;
+      s.state.x[i].z() += 0.02 * std::sin(1.7 * i);
+      if (m.particle_inv_mass[i] > 0) s.state.v[i] = Vec3(std::sin(0.3 * i), std::cos(0.7 * i), 0.5 * std::sin(i));
+    }
+    const Real h = 0.02;
+    Workspace ws = make_workspace(m);
+    if (pc == Preconditioner::multigrid) {
+      ws.multigrid = build_multigrid_levels(m, 1);
+      REQUIRE(ws.multigrid.levels.size() >= 2);
+    }
+    State out = s.state;
+    step(m, s.state, out, ws, h);
 
-  const auto [A, rhs] = dense_system(m, s.state, h);
-  const Eigen::VectorXd dv = A.ldlt().solve(rhs);
-  CHECK(largest_difference(s.state, out, dv) < 1e-9 * dv.norm());
-  CHECK(dv.norm() > 0.1);  // the step does change the velocities
-  for (Index p : m.pinned) CHECK(out.x[p] == s.state.x[p]);
-  REQUIRE(ws.solve_log.size() == 1);
-  CHECK(ws.solve_log[0].cg_residual <= 1e-13);
-  CHECK(ws.solve_log[0].cg_iterations > 1);
+    const auto [A, rhs] = dense_system(m, s.state, h);
+    const Eigen::VectorXd dv = A.ldlt().solve(rhs);
+    CHECK(largest_difference(s.state, out, dv) < 1e-9 * dv.norm());
+    CHECK(dv.norm() > 0.1);  // the step does change the velocities
+    for (Index p : m.pinned) CHECK(out.x[p] == s.state.x[p]);
+    REQUIRE(ws.solve_log.size() == 1);
+    CHECK(ws.solve_log[0].cg_residual <= 1e-13);
+    CHECK(ws.solve_log[0].cg_iterations > 1);
+    MESSAGE("preconditioner " << int(pc) << ": " << ws.solve_log[0].cg_iterations << " CG iterations to 1e-13");
+  }
 }
 
 TEST_CASE("implicit stays bounded on a stiff hanging sheet at 100x the symplectic Euler limit") {
@@ -204,6 +181,7 @@ TEST_CASE("CG with the 3x3 block-Jacobi preconditioner takes the iterations of a
   // Masses spread over four decades make the plain CG slow; the block-Jacobi preconditioner must undo that.
   BuiltScene s = damped_implicit_sheet(8, 6, 1e-8);
   Model& m = s.model;
+  m.preconditioner = Preconditioner::jacobi;
   for (Index i = 0; i < m.particle_count; ++i) {
     if (m.particle_inv_mass[i] > 0) m.particle_inv_mass[i] *= std::pow(1e-4, std::sin(1.3 * i) * 0.5 + 0.5);
     s.state.x[i] *= 1.1;

@@ -8,6 +8,7 @@
 
 #include "core/csr.h"
 #include "core/memory_bytes.h"
+#include "core/multigrid_levels.h"
 #include "core/spring_chunks.h"
 #include "scene_fixtures.h"
 
@@ -87,4 +88,29 @@ TEST_CASE("the 1024^2 sheet's run holds under 400 bytes a particle by the same c
   const double held = model_hand_count(g, schedule) + 48 * g.particles + 48 * g.particles + 24 * g.particles +
                       48 * g.particles;
   CHECK(held / g.particles < 360);
+}
+
+TEST_CASE("the multigrid levels of an 8 x 8 grid hold their hand-counted bytes") {
+  // Levels of 16 and 4 aggregates (tests/multigrid_levels_test.cpp: 2 x 2 squares, then 4 x 4), 42 and 6 edges;
+  // 210 of the 306 springs cross between squares, and 18 of the first level's edges between the second's.
+  const BuiltScene b = test::build(test::grid_scene(8, 8, 1.0, Integrator::implicit));
+  const Multigrid mg = build_multigrid_levels(b.model, 4);
+  REQUIRE(mg.levels.size() == 2);
+  // One level of n nodes and e edges over nf finer nodes (all with a parent) and `sources` finer edges: parent,
+  // members and their offsets, edge ends, rows and their offsets, sources and their offsets (4 bytes each), the
+  // first level's ground offsets; G, D, D^-1 (48 bytes each), the edge blocks, and three 3-vectors per node.
+  auto level = [](double nf, double n, double e, double sources, bool first) {
+    return 4 * (nf + (n + 1) + nf + 2 * e + (n + 1) + 4 * e + (e + 1) + sources + (first ? n + 1 : 0)) +
+           3 * 48 * n + 48 * e + 3 * 24 * n;
+  };
+  const double dense = 8 * (12 * 12 + 12);  // the coarsest level's 3n x 3n matrix and right-hand side
+  CHECK(multigrid_bytes(mg) == std::size_t(level(64, 16, 42, 210, true) + level(16, 4, 6, 18, false) + dense));
+  // The workspace adds the cycle's output z (24 bytes a particle) to the implicit scratch.
+  SceneDesc s = test::grid_scene(8, 8, 1.0, Integrator::implicit);
+  s.simulation.preconditioner = Preconditioner::jacobi;
+  const Workspace jacobi = make_workspace(test::build(s).model);
+  s.simulation.preconditioner = Preconditioner::multigrid;
+  const Model with_mg = test::build(s).model;
+  CHECK(workspace_bytes(make_workspace(with_mg)) ==
+        workspace_bytes(jacobi) + 24 * 64 + multigrid_bytes(build_multigrid_levels(with_mg)));
 }

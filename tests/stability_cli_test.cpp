@@ -102,6 +102,7 @@ TEST_CASE("implicit run: byte-identical frames at 1 and 2 threads, CG figures pe
   for (const auto& f : files) CHECK(read_text(dir / "t1" / f) == read_text(dir / "t2" / f));
   const std::string stats = read_text(dir / "s1.json");
   CHECK(stats.find("\"integrator\":\"implicit\"") != std::string::npos);
+  CHECK(stats.find("\"preconditioner\":\"multigrid\"") != std::string::npos);  // the default
   // 5 steps per frame: each frame after the first lists 5 iteration counts and 5 residuals.
   const auto at = stats.find("\"frame\":3");
   REQUIRE(at != std::string::npos);
@@ -119,6 +120,7 @@ TEST_CASE("bad implicit and strain-limit settings are input errors with the line
       {sheet_scene("integrator=\"implicit\" cgTolerance=\"2\""), "cgTolerance"},
       {sheet_scene("integrator=\"implicit\" cgMaxIterations=\"0\""), "cgMaxIterations"},
       {sheet_scene("integrator=\"implicit\" newtonIterations=\"-1\""), "newtonIterations"},
+      {sheet_scene("integrator=\"implicit\" preconditioner=\"ilu\""), "jacobi or multigrid"},
       {sheet_scene("integrator=\"implicit\"", " maxStrain=\"-0.1\""), "maxStrain"},
   };
   for (const auto& [scene, expected] : cases) {
