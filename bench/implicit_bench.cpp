@@ -1,5 +1,6 @@
 // One backward-Euler step (Baraff & Witkin 1998) of a hanging sheet, in the two ways CG can apply the matrix:
-// per-spring blocks built once per solve, or recomputed from the positions in every product (matrix-free).
+// per-spring blocks built once per solve, or recomputed from the positions in every product (matrix-free); and
+// with the block-Jacobi or the multigrid preconditioner (systems/multigrid.h).
 // The input state is fixed (a sheet that has sagged for 0.25 s), so every timed step does the same work.
 #include <benchmark/benchmark.h>
 
@@ -16,11 +17,12 @@ struct Sheet {
   Workspace ws;
 };
 
-Sheet make_sheet(int n) {
+Sheet make_sheet(int n, Preconditioner preconditioner) {
   SceneDesc scene;
   scene.path = "bench";
   scene.simulation.integrator = Integrator::implicit;
   scene.simulation.cg_tolerance = 1e-6;
+  scene.simulation.preconditioner = preconditioner;
   ClothDesc c;
   c.grid_nx = c.grid_ny = n;
   c.stiffness = 5000;
@@ -39,8 +41,8 @@ Sheet make_sheet(int n) {
   return sh;
 }
 
-void BM_implicit_step(benchmark::State& bs, ImplicitLayout layout) {
-  Sheet sh = make_sheet(int(bs.range(0)));
+void BM_implicit_step(benchmark::State& bs, ImplicitLayout layout, Preconditioner preconditioner) {
+  Sheet sh = make_sheet(int(bs.range(0)), preconditioner);
   State out = sh.s.state;
   long long cg = 0;
   for (auto _ : bs) {
@@ -55,7 +57,9 @@ void BM_implicit_step(benchmark::State& bs, ImplicitLayout layout) {
 
 }  // namespace
 
-BENCHMARK_CAPTURE(BM_implicit_step, spring_blocks, ImplicitLayout::spring_blocks)
+BENCHMARK_CAPTURE(BM_implicit_step, spring_blocks, ImplicitLayout::spring_blocks, Preconditioner::jacobi)
     ->Arg(32)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->MinTime(0.5);
-BENCHMARK_CAPTURE(BM_implicit_step, recompute, ImplicitLayout::recompute)
+BENCHMARK_CAPTURE(BM_implicit_step, recompute, ImplicitLayout::recompute, Preconditioner::jacobi)
+    ->Arg(32)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->MinTime(0.5);
+BENCHMARK_CAPTURE(BM_implicit_step, multigrid, ImplicitLayout::spring_blocks, Preconditioner::multigrid)
     ->Arg(32)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->MinTime(0.5);

@@ -4,7 +4,8 @@ in one run, on one machine.
 
   blender -b --factory-startup --python-exit-code 1 --python bench/peer_blender.py -- CLOTHSIM_BIN SCRATCH_DIR \
       [--side 128] [--seconds 1] [--fps 24] [--quality 5] [--tension 15] [--integrator implicit] \
-      [--stiffness N_PER_M] [--timestep 0.0041667] [--cg-tolerance 1e-3] [--max-strain 0.1] [--threads 2]
+      [--stiffness N_PER_M] [--timestep 0.0041667] [--cg-tolerance 1e-3] [--max-strain 0.1] [--threads 2] \
+      [--preconditioner jacobi|multigrid]
 
 bench/peer_blender.sh wraps it and exits 77 (skipped) where blender is not installed. Prints one row per peer:
 the step, simulated seconds per wall second and per CPU second, particle-steps per CPU second, the largest strain of
@@ -44,6 +45,8 @@ ap.add_argument("--cg-tolerance", type=float, default=1e-3, help="clothsim impli
 ap.add_argument("--max-strain", type=float, default=0.0,
                 help="clothsim: Provot strain limit (the cloth's maxStrain), e.g. 0.1; default none")
 ap.add_argument("--threads", type=int, default=2, help="threads for both")
+ap.add_argument("--preconditioner", default="",
+                help="clothsim implicit: the CG's preconditioner, jacobi or multigrid (default: the scene default)")
 args = ap.parse_args(argv)
 
 side, fps = args.side, args.fps
@@ -125,12 +128,13 @@ def run_clothsim():
     stats = os.path.join(args.scratch, "peer_stats.json")
     steps_per_frame = max(1, round(1.0 / (fps * args.timestep)))
     limit = f' maxStrain="{args.max_strain!r}"' if args.max_strain > 0 else ""
+    preconditioner = f' preconditioner="{args.preconditioner}"' if args.preconditioner else ""
     with open(xml, "w") as f:
         f.write(f"""<?xml version="1.0"?>
 <!-- bench/peer_blender.py: the peer sheet, {side} x {side}, 1 m, 1 kg, two corners pinned -->
 <scene>
   <simulation timestep="{1.0 / (fps * steps_per_frame)!r}" fps="{fps}" startFrame="1" endFrame="{1 + frames}"
-              integrator="{args.integrator}" cgTolerance="{args.cg_tolerance!r}" gravity="0 -9.81 0"/>
+              integrator="{args.integrator}" cgTolerance="{args.cg_tolerance!r}" gravity="0 -9.81 0"{preconditioner}/>
   <forces><airDamping value="0.1"/></forces>
   <cloth name="sheet" grid="{side} {side}" size="1 1" translate="0 1 0" saveDir="{out}" saveName="sheet"{limit}>
     <density value="1"/>
@@ -153,6 +157,7 @@ def run_clothsim():
     return dict(peer=f"clothsim {st['integrator']}", step=st["dt"], steps=st["steps"], wall=wall, cpu=cpu,
                 max_strain=max(fr["max_strain"] for fr in st["frames"]), finite=st["status"] == "ok",
                 stiffness=stiffness, cg_iterations=st.get("cg_iterations", 0),
+                preconditioner=st.get("preconditioner", ""),
                 strain_iterations=st.get("strain_limit_iterations", 0))
 
 
@@ -168,5 +173,5 @@ for r in (cs, bl):
           f"{r['max_strain']:>10.4f} {r['wall'] / cs['wall']:>15.2f} {r['cpu'] / cs['cpu']:>14.2f}"
           f"{'' if r['finite'] else '  (diverged)'}")
 if cs["cg_iterations"] or cs["strain_iterations"]:
-    print(f"clothsim: {cs['cg_iterations'] / cs['steps']:.1f} CG iterations a step, "
+    print(f"clothsim: {cs['cg_iterations'] / cs['steps']:.1f} CG iterations a step ({cs['preconditioner']}), "
           f"{cs['strain_iterations'] / cs['steps']:.1f} strain-limit sweeps a step")
