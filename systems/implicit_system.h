@@ -4,6 +4,7 @@
 // symmetric block B_s, so (A p)_i = G_i p_i + sum over springs s = (i, j) of B_s (p_i - p_j). Pinned particles
 // are filtered out (their rows and columns are zero; Baraff & Witkin §5.3 with S = 0).
 #include <span>
+#include <type_traits>
 
 #include "core/model.h"
 #include "systems/parallel.h"
@@ -32,15 +33,17 @@ inline Vec3 apply_particle_block(const Model& m, Index i, Real mass, Real h, con
 }
 
 // Row i of A p, gathered over the particle's incident springs (no scatter); p must be zero on pinned particles,
-// so their columns drop out. x are the positions the springs are linearised about (the recompute layout).
-inline Vec3 system_row(const Model& m, std::span<const Vec3> x, Real h, ImplicitLayout layout, const Workspace& ws,
-                       std::span<const Vec3> p, Index i) {
+// so their columns drop out. x are the positions the springs are linearised about (the recompute layout). The
+// layout is a template argument: callers choose it once, outside their loops over particles and springs.
+template <ImplicitLayout Layout>
+inline Vec3 system_row(const Model& m, std::span<const Vec3> x, Real h, const Workspace& ws, std::span<const Vec3> p,
+                       Index i) {
   Vec3 sum = apply_particle_block(m, i, 1 / m.particle_inv_mass[i], h, ws, p[i]);
   for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
     const Index e = m.particle_spring_index[k];
     const Index s = e >= 0 ? e : ~e;
     const Index j = e >= 0 ? m.spring_b[s] : m.spring_a[s];
-    if (layout == ImplicitLayout::spring_blocks) {
+    if constexpr (Layout == ImplicitLayout::spring_blocks) {
       sum += ws.spring_block[s] * (p[i] - p[j]);
     } else {
       const Index a = m.spring_a[s], b = m.spring_b[s];
@@ -51,11 +54,20 @@ inline Vec3 system_row(const Model& m, std::span<const Vec3> x, Real h, Implicit
   return sum;
 }
 
+// Calls body(std::integral_constant<ImplicitLayout, layout>{}): the one dispatch from the run-time layout.
+template <class Body>
+inline void with_layout(ImplicitLayout layout, Body&& body) {
+  if (layout == ImplicitLayout::spring_blocks) body(std::integral_constant<ImplicitLayout, ImplicitLayout::spring_blocks>{});
+  else body(std::integral_constant<ImplicitLayout, ImplicitLayout::recompute>{});
+}
+
 // q = A p over all particles; pinned rows are zero.
 inline void apply_system(const Model& m, std::span<const Vec3> x, Real h, ImplicitLayout layout, const Workspace& ws,
                          std::span<const Vec3> p, std::span<Vec3> q) {
-  parallel_over(m.particle_count, particle_grain, [&](Index i) {
-    q[i] = m.particle_inv_mass[i] > 0 ? system_row(m, x, h, layout, ws, p, i) : Vec3(Vec3::Zero());
+  with_layout(layout, [&](auto l) {
+    parallel_over(m.particle_count, particle_grain, [&](Index i) {
+      q[i] = m.particle_inv_mass[i] > 0 ? system_row<l()>(m, x, h, ws, p, i) : Vec3(Vec3::Zero());
+    });
   });
 }
 

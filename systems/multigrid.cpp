@@ -23,15 +23,15 @@ void for_nodes(Index n, Body&& body) {
 }
 
 // The finest level: the particles, their rows of the CG's own matrix (pinned rows zero), block-Jacobi inverses.
+template <ImplicitLayout Layout>
 struct FineLevel {
   const Model& m;
   std::span<const Vec3> x;
   Real h;
-  ImplicitLayout layout;
   const Workspace& ws;
   Index size() const { return m.particle_count; }
   bool active(Index i) const { return m.particle_inv_mass[i] > 0; }
-  Vec3 row(std::span<const Vec3> p, Index i) const { return system_row(m, x, h, layout, ws, p, i); }
+  Vec3 row(std::span<const Vec3> p, Index i) const { return system_row<Layout>(m, x, h, ws, p, i); }
   const Sym3& diag_inv(Index i) const { return ws.cg_precond[i]; }
 };
 
@@ -48,8 +48,9 @@ struct CoarseLevel {
   const Sym3& diag_inv(Index n) const { return L.diag_inv[n]; }
 };
 
+template <class Fine>
 struct Cycle {
-  const FineLevel fine;
+  const Fine fine;
   Multigrid& mg;
 
   Index coarsest() const { return Index(mg.levels.size()); }
@@ -157,8 +158,10 @@ void build_multigrid_operators(const Model& m, Real h, Workspace& ws) {
 
 void apply_multigrid(const Model& m, std::span<const Vec3> x, Real h, ImplicitLayout layout, Workspace& ws,
                      std::span<const Vec3> r, std::span<Vec3> z) {
-  Cycle cycle{FineLevel{m, x, h, layout, ws}, ws.multigrid};
-  cycle.run(0, r, z, ws.cg_q, true);
+  with_layout(layout, [&](auto l) {
+    Cycle<FineLevel<l()>> cycle{{m, x, h, ws}, ws.multigrid};
+    cycle.run(0, r, z, ws.cg_q, true);
+  });
 }
 
 }  // namespace clothsim
