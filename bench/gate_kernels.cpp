@@ -37,9 +37,11 @@ int main() {
   BuiltScene sym = bench::build_sheet(n, Integrator::symplectic);
   build_particle_springs(sym.model);  // the gather and two_phase kernels are gated on this blocked model too
   BuiltScene rk4 = bench::build_sheet(n, Integrator::rk4);
+  // The implicit step at the peer's 1/48 s with its default, multigrid-preconditioned CG (to 1e-6).
+  BuiltScene imp = bench::build_sheet(n, Integrator::implicit, 1.0 / 48);
   const Model& m = sym.model;
-  Workspace ws = make_workspace(m), ws_rk4 = make_workspace(rk4.model);
-  State scratch = sym.state, scratch_rk4 = rk4.state;
+  Workspace ws = make_workspace(m), ws_rk4 = make_workspace(rk4.model), ws_imp = make_workspace(imp.model);
+  State scratch = sym.state, scratch_rk4 = rk4.state, scratch_imp = imp.state;
   std::vector<Vec3> per_spring(m.spring_count);
   // Warm-up outside the windows: a few steps so the sheet is strained, and TBB's arena is started.
   for (int k = 0; k < 5; ++k) {
@@ -47,6 +49,10 @@ int main() {
     std::swap(sym.state, scratch);
   }
   rk4.state = sym.state;
+  for (int k = 0; k < 5; ++k) {  // the implicit sheet falls for 0.1 s: its springs stretch, CG has work
+    step(imp.model, imp.state, scratch_imp, ws_imp, imp.model.dt);
+    std::swap(imp.state, scratch_imp);
+  }
 
   std::size_t sink = 0;
   measure("springs_gather", [&] { eval_springs_gather(m, sym.state.x, sym.state.v, ws.f); });
@@ -54,6 +60,7 @@ int main() {
   measure("springs_two_phase", [&] { eval_springs_two_phase(m, sym.state.x, sym.state.v, ws.f, per_spring); });
   measure("step_symplectic", [&] { step(m, sym.state, scratch, ws, m.dt); });
   measure("step_rk4", [&] { step(rk4.model, rk4.state, scratch_rk4, ws_rk4, rk4.model.dt); });
+  measure("step_implicit", [&] { step(imp.model, imp.state, scratch_imp, ws_imp, imp.model.dt); });
   measure("normals", [&] { eval_normals(m, sym.state.x, ws.normal); });
   measure("obj_frame", [&] { sink += io::format_frame(m, m.cloths[0], sym.state.x, ws.normal, 1).size(); });
   std::printf("gate workload done (%zu bytes of OBJ)\n", sink);
