@@ -22,28 +22,25 @@ void build_tethers(Model& m, std::span<const Vec3> rest, std::span<const char> s
     if (info.spring_begin < info.spring_end) cloth_strain[c] = m.spring_max_strain[info.spring_begin];
     for (Index i = info.particle_begin; i < info.particle_end; ++i) particle_cloth[i] = Index(c);
   }
-  // The spring CSR, borrowed from the model where a kernel already keeps it, else built for this search only.
-  std::vector<Index> own_offset, own_index;
-  if (m.particle_spring_offset.empty()) build_particle_springs(m, own_offset, own_index);
-  const std::vector<Index>& offset = m.particle_spring_offset.empty() ? own_offset : m.particle_spring_offset;
-  const std::vector<Index>& index = m.particle_spring_offset.empty() ? own_index : m.particle_spring_index;
-
   // Dijkstra from every pin of a limited cloth at once: each particle settles at its nearest pin. The queue
   // orders by (distance, particle), so the search and its ties are the same every run.
   std::vector<Real> dist(m.particle_count, inf);
   std::vector<Index> pin(m.particle_count, -1);
   using Entry = std::pair<Real, Index>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
-  bool any = false;
   for (Index p : m.pinned) {
     const Index c = particle_cloth[p];
-    if (c < 0 || !std::isfinite(cloth_strain[c]) || offset[p] == offset[p + 1]) continue;
+    if (c < 0 || !std::isfinite(cloth_strain[c])) continue;
     dist[p] = 0;
     pin[p] = p;
     queue.push({0, p});
-    any = true;
   }
-  if (!any) return;
+  if (queue.empty()) return;
+  // The spring CSR, borrowed from the model where a kernel already keeps it, else built for this search only.
+  std::vector<Index> own_offset, own_index;
+  if (m.particle_spring_offset.empty()) build_particle_springs(m, own_offset, own_index);
+  const std::vector<Index>& offset = m.particle_spring_offset.empty() ? own_offset : m.particle_spring_offset;
+  const std::vector<Index>& index = m.particle_spring_offset.empty() ? own_index : m.particle_spring_index;
   while (!queue.empty()) {
     const auto [d, i] = queue.top();
     queue.pop();

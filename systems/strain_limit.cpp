@@ -29,6 +29,12 @@ Real max_over(Index begin, Index end, Body&& body) {
       [](Real p, Real q) { return std::max(p, q); });
 }
 
+// How far spring s of length len is past its limit, in strain: (len - rest)/rest - maxStrain.
+inline Real strain_excess(const Model& m, Index s, Real len) {
+  const Real rest = m.spring_rest[s];
+  return (len - rest) / rest - m.spring_max_strain[s];
+}
+
 // Moves particle i by dx and its velocity by dx / h (x' = x + h v' stays true).
 inline void displace(State& out, Index i, const Vec3& dx, Real h) {
   out.x[i] += dx;
@@ -55,11 +61,11 @@ Real sweep(const Model& m, State& out, Real h, Real omega) {
     met = std::max(met, max_over(m.spring_colour_offset[c], m.spring_colour_offset[c + 1], [&](Index k) {
       const Index s = m.spring_colour_spring[k], a = m.spring_a[s], b = m.spring_b[s];
       const Vec3 d = out.x[b] - out.x[a];
-      const Real len = d.norm(), rest = m.spring_rest[s], limit = m.spring_max_strain[s];
-      const Real excess = (len - rest) / rest - limit;
+      const Real len = d.norm(), excess = strain_excess(m, s, len);
       if (excess > 0) {
         const Real wa = m.particle_inv_mass[a], wb = m.particle_inv_mass[b];
-        const Vec3 dx = (omega * (len - (1 + limit) * rest) / ((wa + wb) * len)) * d;
+        const Real target = (1 + m.spring_max_strain[s]) * m.spring_rest[s];
+        const Vec3 dx = (omega * (len - target) / ((wa + wb) * len)) * d;
         displace(out, a, wa * dx, h);
         displace(out, b, -wb * dx, h);
       }
@@ -74,8 +80,7 @@ Real sweep(const Model& m, State& out, Real h, Real omega) {
 Real strain_limit_excess(const Model& m, std::span<const Vec3> x) {
   return max_over(0, Index(m.spring_colour_spring.size()), [&](Index k) {
     const Index s = m.spring_colour_spring[k];
-    const Real rest = m.spring_rest[s];
-    return ((x[m.spring_b[s]] - x[m.spring_a[s]]).norm() - rest) / rest - m.spring_max_strain[s];
+    return strain_excess(m, s, (x[m.spring_b[s]] - x[m.spring_a[s]]).norm());
   });
 }
 
@@ -85,7 +90,8 @@ int apply_strain_limit(const Model& m, State& out, Workspace& ws, Real h) {
   if (strain_limit_excess(m, out.x) <= stop) return 0;
   apply_tethers(m, out, h);
   int it = 0;
-  bool done = m.tether_particle.empty() ? false : strain_limit_excess(m, out.x) <= stop;
+  // The tethers alone may leave nothing to do (a chain stretched straight from its pin).
+  bool done = !m.tether_particle.empty() && strain_limit_excess(m, out.x) <= stop;
   while (!done && it < strain_limit_max_iterations) {
     // The first sweep projects exactly: a spring stretched alone ends at its limit, not past it.
     const Real met = sweep(m, out, h, it == 0 ? 1 : strain_limit_relaxation);
