@@ -213,8 +213,9 @@ TEST_CASE("strain limit on one spring: a pinned end stays, the free end moves ba
 
 TEST_CASE("a chain pinned at one end and stretched: the tethers alone give the projection, x_i = i (1 + tau) rest") {
   // Every spring 1.5 long for maxStrain 0.2: the nearest configuration (equal masses) within the limit puts
-  // particle i at 1.2 i, each moving back by 0.3 i (the KKT multipliers of the n springs, (n + 1 - i) 0.3 i... are
-  // all positive, so every spring ends exactly at its limit). Each tether is i x 1.2 long: one projection each.
+  // particle i at 1.2 i, each moving back by 0.3 i (spring i's KKT multiplier is the sum of the moves beyond it,
+  // 0.3 (i + ... + n) > 0, so every spring ends exactly at its limit). Each tether is 1.2 i long: one projection
+  // each lands the particle there.
   const int n = 6;
   const Real h = 0.1;
   BuiltScene s = chain(n, 1.5, 0.2, true);
