@@ -10,6 +10,8 @@
 #include "core/error.h"
 #include "core/grid.h"
 #include "core/spring_chunks.h"
+#include "core/spring_colours.h"
+#include "core/tethers.h"
 #include "core/topology.h"
 #include "core/transform.h"
 
@@ -97,6 +99,7 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
   area.reserve(total_vertices);
   pinned_flag.reserve(total_vertices);
   ParamFieldBuilder ke, kd, thickness, stretch, max_strain;
+  std::vector<char> straight_rest;  // per cloth: a grid, whose flat rectangle makes rest distances straight lines
 
   for (std::size_t c = 0; c < scene.cloths.size(); ++c) {
     const ClothDesc& cd = scene.cloths[c];
@@ -174,6 +177,7 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
       pinned_flag[base + p] = 1;
     }
 
+    straight_rest.push_back(cd.grid_nx > 0);
     SpringList springs = cloth_springs(cd, mesh, info.pieces);
     info.spring_begin = m.spring_count;
     const std::size_t spring_total = std::size_t(m.spring_count) + springs.size();
@@ -225,6 +229,11 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
   if (build_spring_chunks(m)) m.spring_layout = SpringLayout::blocked;
   // The spring CSR only when a kernel of this model reads it (the blocked layout alone does not).
   if (needs_particle_springs(m)) build_particle_springs(m);
+  // The strain limit's colour schedule and long-range attachments (systems/strain_limit.h).
+  if (m.strain_limited) {
+    build_spring_colours(m);
+    build_tethers(m, positions, straight_rest);
+  }
 
   out.state = make_state(m, std::move(positions));
   return out;
@@ -256,7 +265,6 @@ Workspace make_workspace(const Model& model) {
       ws.multigrid = build_multigrid_levels(model);
     }
   }
-  if (model.strain_limited) ws.strain_correction.assign(model.spring_count, Vec3::Zero());
   make_collision_workspace(model, ws.collision);
   return ws;
 }

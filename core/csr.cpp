@@ -37,7 +37,7 @@ void build_particle_springs(const Model& m, std::vector<Index>& offset, std::vec
 void build_particle_springs(Model& m) { build_particle_springs(m, m.particle_spring_offset, m.particle_spring_index); }
 
 bool needs_particle_springs(const Model& m) {
-  return m.spring_layout != SpringLayout::blocked || m.integrator == Integrator::implicit || m.strain_limited;
+  return m.spring_layout != SpringLayout::blocked || m.integrator == Integrator::implicit;
 }
 
 void ensure_particle_springs(Model& m) {

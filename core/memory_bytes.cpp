@@ -21,7 +21,8 @@ std::size_t model_bytes(const Model& m) {
                                 m.spring_chunk_offset, m.spring_pass_offset, m.spring_pass_chunk,
                                 m.spring_chunk_open_offset, m.spring_chunk_open_range, m.spring_chunk_close_offset,
                                 m.spring_chunk_close_range, m.spring_block_close, m.tri_index,
-                                m.particle_tri_offset, m.particle_tri_index);
+                                m.particle_tri_offset, m.particle_tri_index, m.spring_colour_offset,
+                                m.spring_colour_spring, m.tether_particle, m.tether_pin, m.tether_length);
   total += m.particle_thickness.bytes() + m.particle_stiffness.bytes() + m.spring_ke.bytes() + m.spring_kd.bytes() +
            m.spring_max_strain.bytes();
   for (const ClothInfo& c : m.cloths) total += sum_bytes(c.uvs, c.tri_uv);
@@ -41,7 +42,7 @@ std::size_t multigrid_bytes(const Multigrid& mg) {
 
 std::size_t workspace_bytes(const Workspace& ws) {
   return sum_bytes(ws.f, ws.spring_force, ws.stage_x, ws.stage_v, ws.normal, ws.dv, ws.cg_x, ws.cg_r, ws.cg_p,
-                   ws.cg_q, ws.cg_precond, ws.spring_block, ws.cg_z, ws.solve_log, ws.strain_correction) +
+                   ws.cg_q, ws.cg_precond, ws.spring_block, ws.cg_z, ws.solve_log) +
          multigrid_bytes(ws.multigrid);
 }
 

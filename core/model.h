@@ -66,6 +66,15 @@ struct Model {
   // largest allowed strain (|d| - rest)/rest, +inf where unlimited; only read when strain_limited
   ParamField spring_max_strain;         // (spring_count, stride 0 when uniform)
   bool strain_limited = false;          // some cloth sets maxStrain: the strain-limit stage runs
+  // strain-limit schedule (core/spring_colours.h), only when strain_limited: the limited springs by colour; no
+  // two springs of a colour share a particle, so a colour's projections run in parallel in any order
+  std::vector<Index> spring_colour_offset;    // first entry of each colour in spring_colour_spring (colours + 1)
+  std::vector<Index> spring_colour_spring;    // spring indices, colour by colour (limited spring count)
+  // long-range attachments (core/tethers.h), only for strain-limited cloths with pins: a free particle and its
+  // nearest pin, which it may not leave by more than tether_length
+  std::vector<Index> tether_particle;         // (tether_count)
+  std::vector<Index> tether_pin;              // (tether_count)
+  std::vector<Real> tether_length;            // (1 + maxStrain) x rest distance to the pin, m (tether_count)
   // incident springs of each particle: entry = spring index, ~index (negative) when the particle is spring_b;
   // built only when a kernel reads it (core/csr.h needs_particle_springs: not for the blocked layout alone)
   std::vector<Index> particle_spring_offset;  // (particle_count + 1, or 0)
@@ -142,9 +151,7 @@ struct Workspace {
   };
   std::vector<SolveRecord> solve_log;  // one per step; capacity steps_per_frame, the caller clears it
   long long cg_iterations_total = 0;
-  // strain-limit scratch (Provot 1995 §5), sized only when strain_limited
-  std::vector<Vec3> strain_correction;  // per-spring position correction of spring_a (spring_count)
-  int strain_iterations_total = 0;
+  int strain_iterations_total = 0;     // strain-limit sweeps (systems/strain_limit.h): it needs no scratch
   int force_evaluations = 0;       // counted for the studies
   double seconds_forces = 0, seconds_integrate = 0;
   CollisionScratch collision;      // sized only when model.collision.enabled
