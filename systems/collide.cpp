@@ -335,33 +335,25 @@ std::int64_t apply_accumulated(const Model& m, State& out, CollisionScratch& s) 
       [](std::int64_t a, std::int64_t b) { return a + b; });
 }
 
-// Edge-edge half of the continuous pass (Bridson et al. 2002 §4): edge x[0]x[1] of a cloth against edge x[2]x[3]
-// (another cloth edge, or a collider edge when `fixed`), moving linearly from x0 to x1 over the step. A crossing
-// sends the pair back to the side it came from (crossing_normal, systems/ccd.h), and the end-of-step distance
-// along that normal is restored to the thickness by an inelastic impulse and a push spread over the cloth
-// endpoints by their weights.
-void respond_edge_edge_ccd(const Model& m, const State& out, CollisionScratch& s, const Index* p, bool fixed,
-                           const Vec3 x0[4], const Vec3 x1[4], Real mu, Real h) {
-  const Real thick = m.particle_thickness[p[0]];
+// Edge x[0]x[1] of a cloth against edge x[2]x[3] (another cloth edge, or a collider edge), moving linearly from
+// x0 to x1 over the step (Bridson et al. 2002 §4): true when they meet within the thickness during the step and
+// end closer than it along the direction back to the side they came from (crossing_normal, systems/ccd.h); n
+// and d are that direction and the end-of-step distance along it.
+bool edge_edge_crossing(const Vec3 x0[4], const Vec3 x1[4], Real thick, EdgeProximity& px, Vec3& n, Real& d) {
   Real when;
-  EdgeProximity px;
-  if (!edge_edge_ccd(x0, x1, thick, when, px)) return;
-  Vec3 n;
-  if (!crossing_normal(x0, x1, when, px, n)) return;
-  const Real d = n.dot(((1 - px.s) * x1[0] + px.s * x1[1]) - ((1 - px.t) * x1[2] + px.t * x1[3]));
-  if (!std::isfinite(d) || d >= thick) return;
-  const Real wt[4] = {1 - px.s, px.s, -(1 - px.t), -px.t};
-  const int count = fixed ? 2 : 4;
-  Vec3 v_fixed = Vec3::Zero();
-  if (fixed) v_fixed = ((1 - px.t) * (x1[2] - x0[2]) + px.t * (x1[3] - x0[3])) / h;
-  Vec3 dv[4], dx[4];
-  if (!inelastic_separation(p, wt, count, m, out.v, v_fixed, n, d, thick, mu, h, dv, dx)) return;
-  for (int k = 0; k < count; ++k) accumulate_contact(s, p[k], dv[k], dx[k]);
+  if (!edge_edge_ccd(x0, x1, thick, when, px)) return false;
+  if (!crossing_normal(x0, x1, when, px, n)) return false;
+  d = n.dot(((1 - px.s) * x1[0] + px.s * x1[1]) - ((1 - px.t) * x1[2] + px.t * x1[3]));
+  return std::isfinite(d) && d < thick;
 }
 
 // Every cloth edge against the edges of the triangles its swept box meets: self-colliding cloths' edges
 // against each other (each pair once, from the lower edge id), and every cloth edge against collider edges.
-void continuous_edges(const Model& m, const State& in, const State& out, CollisionScratch& s, BroadMode mode, Real h) {
+// on_edge(p, fixed, x0, x1, px, n, d, mu) for each pair that crossed: p the four particles (collider vertices
+// for p[2], p[3] when `fixed`), mu the mean friction of the two sides.
+template <class OnEdge>
+void for_each_edge_crossing(const Model& m, const State& in, const State& out, const CollisionScratch& s,
+                            BroadMode mode, OnEdge&& on_edge) {
   const CollisionModel& c = m.collision;
   parallel_over(Index(c.edge_a.size()), contact_grain, [&](Index e) {
     const Index a = c.edge_a[e], b = c.edge_b[e];
@@ -404,19 +396,27 @@ void continuous_edges(const Model& m, const State& in, const State& out, Collisi
         grow(other, x0[3]);
         grow(other, x1[3]);
         if (!boxes_overlap(qi, other)) continue;
-        respond_edge_edge_ccd(m, out, s, p, fixed, x0, x1, mu, h);
+        EdgeProximity px;
+        Vec3 n;
+        Real d;
+        if (edge_edge_crossing(x0, x1, tol, px, n, d)) on_edge(p, fixed, x0, x1, px, n, d, mu);
       }
     });
   });
 }
 
-// The continuous pass, last (Bridson et al. 2002 §6.2): each cloth vertex against the triangles its swept box
-// meets, along the step's linear trajectories; a hit is sent back to the side the vertex came from (for collider
-// meshes, only hits from the outside count: they are one-sided).
-std::int64_t collide_continuous(const Model& m, const State& in, State& out, CollisionScratch& s, BroadMode mode,
-                                Real h) {
+// Every pair that crosses along the step's linear trajectories (Bridson et al. 2002 §6.2) and ends closer than
+// the thickness on the side it came from: each cloth vertex against the triangles its swept box meets
+// (on_vertex(i, prim, corners, w, n, d); for collider meshes only hits from the outside count: they are
+// one-sided), each collider vertex against the cloth triangles (on_collider_vertex(t, v, w, n, d), n pointing
+// from the vertex to the side the triangle must keep; a hit from the collider's outside, by the vertex's outward
+// direction as in the proximity pass), then the edge pairs (for_each_edge_crossing). The continuous pass
+// responds to them; the impact zones merge them.
+template <class OnVertex, class OnColliderVertex, class OnEdge>
+void for_each_crossing(const Model& m, const State& in, const State& out, const CollisionScratch& s,
+                       BroadMode mode, OnVertex&& on_vertex, OnColliderVertex&& on_collider_vertex,
+                       OnEdge&& on_edge) {
   const CollisionModel& c = m.collision;
-  clear_accumulators(m, s);
   parallel_over(m.particle_count, contact_grain, [&](Index i) {
     const Real thick = m.particle_thickness[i];
     const Aabb q = swept_box(in.x[i], out.x[i]);
@@ -434,11 +434,9 @@ std::int64_t collide_continuous(const Model& m, const State& in, State& out, Col
       const Vec3 n = (start < 0 ? -1.0 : 1.0) * (x1[2] - x1[1]).cross(x1[3] - x1[1]).normalized();
       const Real d = n.dot(x1[0] - x1[1]);
       if (!std::isfinite(d) || d >= thick) return;
-      respond_vertex_triangle(m, out, s, i, prim, t, px.w, n, d, h, true);
+      on_vertex(i, prim, t, px.w, n, d);
     });
   });
-  // Collider vertices against cloth triangles: a hit from the collider's outside (by the vertex's outward
-  // direction, as in the proximity pass) sends the triangle back to the side it lay on at the start.
   for_each_collider_vertex_pair(m, in, out, s, mode, [&](Index t, Index v) {
     const Index* p = &m.tri_index[3 * t];
     const Real thick = triangle_thickness(m, p);
@@ -454,12 +452,43 @@ std::int64_t collide_continuous(const Model& m, const State& in, State& out, Col
     const Vec3 n = way * (x1[2] - x1[1]).cross(x1[3] - x1[1]).normalized();
     const Real d = n.dot(x1[1] - x1[0]);
     if (!std::isfinite(d) || d >= thick) return;
-    const Real mu = collider_friction(m, p[0], c.mesh_tri_collider[c.mesh_vertex_first_tri[v]]);
-    Vec3 dv[3], dx[3];
-    if (!inelastic_separation(p, px.w, 3, m, out.v, (x1[0] - x0[0]) / h, n, d, thick, mu, h, dv, dx)) return;
-    for (int k = 0; k < 3; ++k) accumulate_contact(s, p[k], dv[k], dx[k]);
+    on_collider_vertex(t, v, px.w, n, d);
   });
-  continuous_edges(m, in, out, s, mode, h);
+  for_each_edge_crossing(m, in, out, s, mode, on_edge);
+}
+
+// The continuous pass, last (Bridson et al. 2002 §6.2): every crossing of for_each_crossing is sent back to the
+// side it came from, with the end-of-step distance along that direction restored to the thickness by an
+// inelastic impulse and a position-only push spread over the cloth particles by their weights. Returns the
+// contacts it responded to.
+std::int64_t collide_continuous(const Model& m, const State& in, State& out, CollisionScratch& s, BroadMode mode,
+                                Real h) {
+  const CollisionModel& c = m.collision;
+  clear_accumulators(m, s);
+  for_each_crossing(
+      m, in, out, s, mode,
+      [&](Index i, Index prim, const PrimCorners& t, const Real* w, const Vec3& n, Real d) {
+        respond_vertex_triangle(m, out, s, i, prim, t, w, n, d, h, true);
+      },
+      [&](Index t, Index v, const Real* w, const Vec3& n, Real d) {
+        const Index* p = &m.tri_index[3 * t];
+        const Real mu = collider_friction(m, p[0], c.mesh_tri_collider[c.mesh_vertex_first_tri[v]]);
+        const Vec3 v_col = (s.collider_x1[v] - s.collider_x0[v]) / h;
+        Vec3 dv[3], dx[3];
+        if (!inelastic_separation(p, w, 3, m, out.v, v_col, n, d, triangle_thickness(m, p), mu, h, dv, dx)) return;
+        for (int k = 0; k < 3; ++k) accumulate_contact(s, p[k], dv[k], dx[k]);
+      },
+      [&](const Index* p, bool fixed, const Vec3* x0, const Vec3* x1, const EdgeProximity& px, const Vec3& n, Real d,
+          Real mu) {
+        const Real wt[4] = {1 - px.s, px.s, -(1 - px.t), -px.t};
+        const int count = fixed ? 2 : 4;
+        Vec3 v_fixed = Vec3::Zero();
+        if (fixed) v_fixed = ((1 - px.t) * (x1[2] - x0[2]) + px.t * (x1[3] - x0[3])) / h;
+        Vec3 dv[4], dx[4];
+        if (!inelastic_separation(p, wt, count, m, out.v, v_fixed, n, d, m.particle_thickness[p[0]], mu, h, dv, dx))
+          return;
+        for (int k = 0; k < count; ++k) accumulate_contact(s, p[k], dv[k], dx[k]);
+      });
   return apply_accumulated(m, out, s);
 }
 
