@@ -3,12 +3,14 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <mutex>
 
 #include "systems/bvh.h"
 #include "systems/ccd.h"
 #include "systems/collision_response.h"
+#include "systems/impact_zones.h"
 #include "systems/parallel.h"
 #include "systems/proximity.h"
 #include "systems/spatial_hash.h"
@@ -492,6 +494,55 @@ std::int64_t collide_continuous(const Model& m, const State& in, State& out, Col
   return apply_accumulated(m, out, s);
 }
 
+// Rigid impact zones (systems/impact_zones.h), after continuous passes that left crossings: each pass finds the
+// pairs still crossing, merges their nodes (cloth particles; collider vertices as node particle_count + v) into
+// zones, and moves the zones that grew as rigid bodies, until a pass finds no crossing. It stops early, the
+// crossings counted as unresolved, when a pass merges nothing (every pair lies within one zone: a zone the
+// collider bends within, which no rigid motion parts) or after model.collision.zone_iterations passes.
+void resolve_impact_zones(const Model& m, const State& in, State& out, CollisionScratch& s, BroadMode mode, Real h) {
+  const CollisionModel& c = m.collision;
+  ZoneScratch& z = s.zones;
+  const Index pc = m.particle_count;
+  reset_zones(z);
+  ++z.steps;
+  bool clean = false;
+  for (int pass = 0; pass < c.zone_iterations; ++pass) {
+    build_broad_phase(m, in, out, s);
+    std::atomic<std::int64_t> pairs{0}, links{0};
+    auto add = [&](const Index* nodes, int count) {
+      pairs.fetch_add(1, std::memory_order_relaxed);
+      if (const int merged = add_zone_pair(z, nodes, count)) links.fetch_add(merged, std::memory_order_relaxed);
+    };
+    for_each_crossing(
+        m, in, out, s, mode,
+        [&](Index i, Index, const PrimCorners& t, const Real*, const Vec3&, Real) {
+          const Index base = t.cloth ? 0 : pc;
+          const Index nodes[4] = {i, base + t.p[0], base + t.p[1], base + t.p[2]};
+          add(nodes, 4);
+        },
+        [&](Index t, Index v, const Real*, const Vec3&, Real) {
+          const Index* p = &m.tri_index[3 * t];
+          const Index nodes[4] = {pc + v, p[0], p[1], p[2]};
+          add(nodes, 4);
+        },
+        [&](const Index* p, bool fixed, const Vec3*, const Vec3*, const EdgeProximity&, const Vec3&, Real, Real) {
+          const Index base = fixed ? pc : 0;
+          const Index nodes[4] = {p[0], p[1], base + p[2], base + p[3]};
+          add(nodes, 4);
+        });
+    ++z.passes;
+    if (pairs.load() == 0) {
+      clean = true;
+      break;
+    }
+    if (links.load() == 0) break;
+    gather_zones(z);
+    rigidify_zones(m, in, out, s, h);
+  }
+  if (!clean) ++z.unresolved;
+  count_zones(z);
+}
+
 }  // namespace
 
 void place_colliders(const Model& m, std::int64_t step, Real h, CollisionScratch& s) {
@@ -587,11 +638,15 @@ void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h)
     if (found == 0) break;
   }
   // The continuous pass repeats too (its responses are averaged per vertex, so one pass may leave part of a
-  // crossing), on boxes rebuilt around the corrected positions, until a pass finds nothing.
+  // crossing), on boxes rebuilt around the corrected positions, until a pass finds nothing. When the last pass
+  // still found crossings, the impact zones take over: a step that ends clean costs nothing more.
+  bool crossings_left = false;
   for (int pass = 0; broad && pass < c.iterations; ++pass) {
     if (pass > 0) build_broad_phase(m, in, out, s);
-    if (collide_continuous(m, in, out, s, mode, h) == 0) break;
+    crossings_left = collide_continuous(m, in, out, s, mode, h) > 0;
+    if (!crossings_left) break;
   }
+  if (crossings_left && c.impact_zones()) resolve_impact_zones(m, in, out, s, mode, h);
   ws.seconds_collide += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
