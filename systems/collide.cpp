@@ -225,10 +225,15 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
 Real collider_friction(const Model& m, Index i, Index collider) {
   return 0.5 * (m.cloths[m.collision.particle_cloth[i]].friction + m.collision.colliders[collider].friction);
 }
+// Cloth particles a and b on the two sides of a cloth-cloth contact.
+Real cloth_pair_friction(const Model& m, Index a, Index b) {
+  const CollisionModel& c = m.collision;
+  return 0.5 * (m.cloths[c.particle_cloth[a]].friction + m.cloths[c.particle_cloth[b]].friction);
+}
 Real mean_friction(const Model& m, Index i, Index prim) {
   const CollisionModel& c = m.collision;
   if (prim >= m.tri_count) return collider_friction(m, i, c.mesh_tri_collider[prim - m.tri_count]);
-  return 0.5 * (m.cloths[c.particle_cloth[i]].friction + m.cloths[c.particle_cloth[m.tri_index[3 * prim]]].friction);
+  return cloth_pair_friction(m, i, m.tri_index[3 * prim]);
 }
 
 // A cloth point (weights w over the particles p: a triangle's barycentrics or an edge's) touching an immovable
@@ -382,7 +387,7 @@ void for_each_edge_crossing(const Model& m, const State& in, const State& out, c
           p[3] = c.mesh_edge_b[g];
           x0[2] = s.collider_x0[p[2]], x0[3] = s.collider_x0[p[3]];
           x1[2] = s.collider_x1[p[2]], x1[3] = s.collider_x1[p[3]];
-          mu = 0.5 * (m.cloths[cloth].friction + c.colliders[c.mesh_tri_collider[tri]].friction);
+          mu = collider_friction(m, a, c.mesh_tri_collider[tri]);
         } else {
           const Index f = c.tri_edge[3 * prim + k];
           if (f <= e || c.edge_first_tri[f] != prim) continue;
@@ -392,7 +397,7 @@ void for_each_edge_crossing(const Model& m, const State& in, const State& out, c
           if (!c.cloths_collide(cloth, c.particle_cloth[p[2]])) continue;
           x0[2] = in.x[p[2]], x0[3] = in.x[p[3]];
           x1[2] = out.x[p[2]], x1[3] = out.x[p[3]];
-          mu = 0.5 * (m.cloths[cloth].friction + m.cloths[c.particle_cloth[p[2]]].friction);
+          mu = cloth_pair_friction(m, a, p[2]);
         }
         Aabb other = swept_box(x0[2], x1[2]);
         grow(other, x0[3]);
@@ -612,7 +617,7 @@ void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h)
           [&](Index e, Index f, const EdgeProximity& px, Real d) {
             const Index p[4] = {c.edge_a[e], c.edge_b[e], c.edge_a[f], c.edge_b[f]};
             const Real wt[4] = {1 - px.s, px.s, -(1 - px.t), -px.t};
-            const Real mu = m.cloths[c.particle_cloth[p[0]]].friction;
+            const Real mu = cloth_pair_friction(m, p[0], p[2]);
             Vec3 dv[4];
             if (!cloth_impulse(p, wt, 4, m, out.v, px.n, d, m.particle_thickness[p[0]], mu, h, dv)) return;
             for (int k = 0; k < 4; ++k) accumulate_contact(s, p[k], dv[k], h * dv[k]);
