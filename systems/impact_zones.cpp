@@ -1,5 +1,7 @@
 #include "systems/impact_zones.h"
 
+#include <cmath>
+
 #include "systems/parallel.h"
 
 namespace clothsim {
@@ -62,72 +64,85 @@ ZoneNode zone_node(const Model& m, const State& in, const State& out, const Coll
   return z;
 }
 
+// A free zone (cloth particles only) moves as a rigid body over the step (Bridson et al. 2002 §6.3): the rigid
+// motion fitted to its members' displacements over the step (their average velocities (x1 - x0) / h, which
+// include the position-only pushes of the responses) carries every member from its start position,
+// x1 = c + h v + R(h omega) (x0 - c): distances within the zone are kept exactly. The end velocities are a rigid
+// field with the linear and angular momentum of the members' velocities before the fit (about the centre of
+// mass, the angular one with the inertia of the new positions), so the zone keeps both momenta to rounding;
+// the fit of the displacements is not used for them, since a push of a thickness in one step is no velocity
+// (it would be metres per second).
+void move_free_zone(const Model& m, const State& in, State& out, const Index* member, int count, Real h) {
+  const RigidFit motion = fit_rigid_motion(count, [&](int j, Real& w, Vec3& x, Vec3& u) {
+    const Index i = member[j];
+    w = 1 / m.particle_inv_mass[i];
+    x = in.x[i];
+    u = (out.x[i] - in.x[i]) / h;
+  });
+  const RigidFit momenta = fit_rigid_motion(count, [&](int j, Real& w, Vec3& x, Vec3& u) {
+    const Index i = member[j];
+    w = 1 / m.particle_inv_mass[i];
+    x = out.x[i];
+    u = out.v[i];
+  });
+  const Mat3 r = rotation_of(h * motion.omega);
+  const Vec3 moved = motion.center + h * motion.velocity;
+  Vec3 c = Vec3::Zero();
+  for (int j = 0; j < count; ++j) {
+    const Index i = member[j];
+    out.x[i] = moved + r * (in.x[i] - motion.center);
+    c += out.x[i] / m.particle_inv_mass[i];
+  }
+  c /= momenta.weight;
+  const Vec3 omega = solve_inertia(inertia_about(count, c, [&](int j, Real& w, Vec3& x, Vec3& u) {
+                                     w = 1 / m.particle_inv_mass[member[j]];
+                                     x = out.x[member[j]];
+                                     u = Vec3::Zero();
+                                   }),
+                                   momenta.momentum);
+  for (int j = 0; j < count; ++j) out.v[member[j]] = momenta.velocity + omega.cross(out.x[member[j]] - c);
+}
+
+// A zone holding immovable nodes (collider vertices, pinned particles) has infinite mass there: as their mass
+// grows, the mass-weighted fit tends to the fit over them alone, so the zone takes the collider's motion. A body
+// is not rigid over a zone that spans a shoulder and a neck, though, and cloth touching it must go where the body
+// goes at that place, not with a compromise over the whole zone: on Kick (frames 61-84 from one state) one fit
+// per zone left 121 steps unresolved, the fits below 34 (docs/performance.md). So each cloth particle of the
+// zone follows the rigid motion fitted to the zone's immovable nodes weighted by 1 / (d^2 + e^2)^2, d their start
+// distance from it (e: 1% of its thickness): the body's motion next to it, rotation included, from the body
+// vertices its zone's pairs touched. Its velocity is that motion's at its end position; no momentum is kept (the
+// collider absorbs it). The particles of such a zone no longer move as one rigid body; pairs among them that a
+// differing motion brings together are found by the next pass like any other.
+void move_attached_zone(const Model& m, const State& in, State& out, const CollisionScratch& s, const Index* member,
+                        int count, Real h) {
+  for (int j = 0; j < count; ++j) {
+    const Index i = member[j];
+    if (i >= m.particle_count || m.particle_inv_mass[i] == 0) continue;
+    const Real e2 = std::pow(0.01 * m.particle_thickness[i], 2);
+    const RigidFit motion = fit_rigid_motion(count, [&](int k, Real& w, Vec3& x, Vec3& u) {
+      const ZoneNode n = zone_node(m, in, out, s, member[k]);
+      w = 0;
+      if (n.fixed) w = 1 / std::pow((n.x0 - in.x[i]).squaredNorm() + e2, 2);
+      x = n.x0;
+      u = (n.x1 - n.x0) / h;
+    });
+    const Vec3 moved = motion.center + h * motion.velocity;
+    out.x[i] = moved + rotation_of(h * motion.omega) * (in.x[i] - motion.center);
+    out.v[i] = motion.velocity + motion.omega.cross(out.x[i] - moved);
+  }
+}
+
 }  // namespace
 
-// Each refitted zone moves as a rigid body over the step (Bridson et al. 2002 §6.3): the rigid motion fitted to
-// its members' displacements over the step (their average velocities (x1 - x0) / h, which include the
-// position-only pushes of the responses) carries every member from its start position, x1 = c + h v + R(h omega)
-// (x0 - c): distances within the zone are kept exactly. The end velocities are a rigid field with the linear
-// and angular momentum of the members' velocities before the fit (about the centre of mass, the angular one
-// with the inertia of the new positions), so a free zone keeps both momenta to rounding; the fit of the
-// displacements is not used for them, since a push of a thickness in one step is no velocity (it would be
-// metres per second).
-//
-// A zone holding immovable nodes (collider vertices, pins) has infinite mass there: as their mass grows, the
-// mass-weighted fit tends to the fit over them alone, so the zone takes the collider's motion -- the rigid
-// motion that best fits its collider vertices' displacement -- and its cloth moves with the body that pushes
-// it, at that motion's velocity; no momentum is kept (the collider absorbs it). Where the collider bends
-// within the zone (two limbs closing on the cloth), the fit is the least-squares compromise and crossings can
-// remain: counted as unresolved.
 void rigidify_zones(const Model& m, const State& in, State& out, const CollisionScratch& s, Real h) {
   const ZoneScratch& z = s.zones;
   parallel_over(z.zone_count, 1, [&](Index k) {
     const Index* member = &z.member[z.offset[k]];
     const int count = int(z.offset[k + 1] - z.offset[k]);
-    bool any_fixed = false;
-    for (int j = 0; j < count && !any_fixed; ++j) any_fixed = zone_node(m, in, out, s, member[j]).fixed;
-    // The fit of the displacements: masses, or the immovable nodes alone.
-    const RigidFit motion = fit_rigid_motion(count, [&](int j, Real& w, Vec3& x, Vec3& u) {
-      const ZoneNode n = zone_node(m, in, out, s, member[j]);
-      w = any_fixed ? Real(n.fixed) : n.mass;
-      x = n.x0;
-      u = (n.x1 - n.x0) / h;
-    });
-    // The momenta of the velocities before the fit, at the positions they belong to (free zones only).
-    RigidFit momenta;
-    if (!any_fixed)
-      momenta = fit_rigid_motion(count, [&](int j, Real& w, Vec3& x, Vec3& u) {
-        const Index i = member[j];
-        w = 1 / m.particle_inv_mass[i];
-        x = out.x[i];
-        u = out.v[i];
-      });
-    const Mat3 r = rotation_of(h * motion.omega);
-    const Vec3 moved = motion.center + h * motion.velocity;
-    for (int j = 0; j < count; ++j) {
-      const Index i = member[j];
-      if (i >= m.particle_count || m.particle_inv_mass[i] == 0) continue;
-      out.x[i] = moved + r * (in.x[i] - motion.center);
-    }
-    if (any_fixed) {
-      for (int j = 0; j < count; ++j) {
-        const Index i = member[j];
-        if (i < m.particle_count && m.particle_inv_mass[i] != 0)
-          out.v[i] = motion.velocity + motion.omega.cross(out.x[i] - moved);
-      }
-      return;
-    }
-    // Free zone: the centre of mass and inertia after the move, then omega = I^+ L.
-    auto at_end = [&](int j, Real& w, Vec3& x, Vec3& u) {
-      w = 1 / m.particle_inv_mass[member[j]];
-      x = out.x[member[j]];
-      u = Vec3::Zero();
-    };
-    Vec3 c = Vec3::Zero();
-    for (int j = 0; j < count; ++j) c += out.x[member[j]] / m.particle_inv_mass[member[j]];
-    c /= momenta.weight;
-    const Vec3 omega = solve_inertia(inertia_about(count, c, at_end), momenta.momentum);
-    for (int j = 0; j < count; ++j) out.v[member[j]] = momenta.velocity + omega.cross(out.x[member[j]] - c);
+    bool attached = false;
+    for (int j = 0; j < count && !attached; ++j) attached = zone_node(m, in, out, s, member[j]).fixed;
+    if (attached) move_attached_zone(m, in, out, s, member, count, h);
+    else move_free_zone(m, in, out, member, count, h);
   });
 }
 

@@ -5,7 +5,9 @@
 // after the continuous passes are merged into zones (zones that share a vertex merge), and each zone moves as
 // one rigid body over the step, keeping its linear and angular momentum. A rigid motion with linear
 // trajectories cannot bring four points of one zone into a plane they were not in at the start (below), so
-// the crossings left are those between zones, and the zones grow until none is left.
+// the crossings left are those between zones, and the zones grow until none is left. A zone that holds
+// collider vertices or pins (infinite mass) follows the collider instead, each particle with the body's motion
+// next to it (impact_zones.cpp).
 //
 // The per-zone maths is inline and free of threads, testable alone; the union-find is lock-free with integer
 // atomics and links the larger root under the smaller, so a zone's root is its smallest node whatever order the
