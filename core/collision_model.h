@@ -103,6 +103,16 @@ struct HashScratch {
   std::vector<Index> bucket_fill;       // (table_size)
 };
 
+// What the impact zones did, summed over steps until read (--stats clears them each frame).
+struct ZoneFigures {
+  std::int64_t steps = 0;       // steps that ran the zones (crossings left after the continuous passes)
+  std::int64_t passes = 0;      // detection passes of those steps
+  std::int64_t zones = 0;       // zones at the end of those steps
+  std::int64_t zone_nodes = 0;  // nodes in them (cloth vertices and collider vertices)
+  std::int64_t largest = 0;     // most nodes in one zone
+  std::int64_t unresolved = 0;  // steps that stopped with pairs left (the cap, or a pass that merged nothing)
+};
+
 // Rigid impact zones (Provot 1997; Bridson, Fedkiw & Anderson 2002 §6.3; systems/impact_zones.h). A node is a
 // cloth particle (0 .. particle_count - 1) or a collider mesh vertex (particle_count + its index). Every array
 // holds one entry per node, so no pass can find more zones or members than there is room for: nothing to
@@ -114,13 +124,7 @@ struct ZoneScratch {
   std::vector<Index> offset;         // CSR of the refitted zones' members, ascending: (node count + 1)
   std::vector<Index> member;         // (node count)
   Index zone_count = 0;              // zones refitted by this pass
-  // Figures for --stats, summed over the steps until read (tools/cmd_run.cpp clears them each frame):
-  std::int64_t steps = 0;            // steps that ran the zones (crossings left after the continuous passes)
-  std::int64_t passes = 0;           // detection passes of those steps
-  std::int64_t zones = 0;            // zones at the end of those steps
-  std::int64_t zone_nodes = 0;       // nodes in them (cloth vertices and collider vertices)
-  Index largest = 0;                 // most nodes in one zone
-  std::int64_t unresolved = 0;       // steps that ended with crossings left (the cap, or zones that cannot part)
+  ZoneFigures figures;
 };
 
 struct CollisionScratch {

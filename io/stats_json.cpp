@@ -50,8 +50,9 @@ std::string format_stats(const Model& m, const RunStats& s) {
       j.field("contacts", f.contacts).field("penetrations", f.penetrations);
       if (m.collision.impact_zones()) {
         j.key("impact_zones").begin_object()
-            .field("steps", f.zone_steps).field("passes", f.zone_passes).field("zones", f.zones)
-            .field("vertices", f.zone_nodes).field("largest", f.largest_zone).field("unresolved", f.zone_unresolved)
+            .field("steps", f.zones.steps).field("passes", f.zones.passes).field("zones", f.zones.zones)
+            .field("vertices", f.zones.zone_nodes).field("largest", f.zones.largest)
+            .field("unresolved", f.zones.unresolved)
             .end_object();
       }
       j.key("collider_distance").begin_object();

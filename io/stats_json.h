@@ -15,15 +15,9 @@ struct FrameStats {
   long long contacts = 0;                 // contacts found in the first collision pass of this frame's steps
   std::vector<Real> collider_distance;    // smallest cloth-to-collider distance, m (one per collider)
   long long penetrations = 0;             // independent check: vertices inside colliders + crossing triangle pairs
-  // Rigid impact zones of this frame's steps (written when the scene has them: a broad phase and zones on):
-  long long zone_steps = 0;       // steps that ran them (crossings left after the continuous passes)
-  long long zone_passes = 0;      // their detection passes
-  long long zones = 0;            // zones at the end of those steps, summed
-  long long zone_nodes = 0;       // cloth and collider vertices in those zones, summed
-  long long largest_zone = 0;     // most vertices in one zone
-  long long zone_unresolved = 0;  // steps that ended with crossings left
   std::vector<int> cg_iterations;  // implicit: CG iterations of each step of the frame (empty otherwise)
   std::vector<Real> cg_residual;   // implicit: final relative CG residual |r|/|b| of each step
+  ZoneFigures zones;               // rigid impact zones of this frame's steps (written when the scene has them)
 };
 
 struct RunStats {

@@ -542,7 +542,7 @@ void resolve_impact_zones(const Model& m, const State& in, State& out, Collision
   ZoneScratch& z = s.zones;
   const Index pc = m.particle_count;
   reset_zones(z);
-  ++z.steps;
+  ++z.figures.steps;
   bool clean = false;
   for (int pass = 0; pass < c.zone_iterations; ++pass) {
     build_broad_phase(m, in, out, s);
@@ -568,7 +568,7 @@ void resolve_impact_zones(const Model& m, const State& in, State& out, Collision
           const Index nodes[4] = {p[0], p[1], base + p[2], base + p[3]};
           add(nodes, 4);
         });
-    ++z.passes;
+    ++z.figures.passes;
     if (pairs.load() == 0) {
       clean = true;
       break;
@@ -577,7 +577,7 @@ void resolve_impact_zones(const Model& m, const State& in, State& out, Collision
     gather_zones(z);
     rigidify_zones(m, in, out, s, h);
   }
-  if (!clean) ++z.unresolved;
+  if (!clean) ++z.figures.unresolved;
   count_zones(z);
 }
 

@@ -160,9 +160,9 @@ void count_zones(ZoneScratch& z) {
     }
   for (Index x = 0; x < n; ++x)
     if (z.slot[x] > 0) {
-      ++z.zones;
-      z.zone_nodes += z.slot[x];
-      z.largest = std::max(z.largest, z.slot[x]);
+      ++z.figures.zones;
+      z.figures.zone_nodes += z.slot[x];
+      z.figures.largest = std::max(z.figures.largest, std::int64_t(z.slot[x]));
       z.slot[x] = -1;
     }
 }

@@ -154,7 +154,7 @@ namespace {
 struct ThroughRun {
   Index crossings = 0;  // intersecting triangle pairs after the collide stage
   std::vector<Vec3> x;  // positions after it
-  ZoneScratch zones;    // the stage's zone figures
+  ZoneFigures zones;    // the stage's zone figures
 };
 
 ThroughRun sheets_through(int zone_iterations) {
@@ -186,7 +186,7 @@ ThroughRun sheets_through(int zone_iterations) {
   ThroughRun r;
   r.crossings = count_intersecting_triangles(m, out.x);
   r.x = out.x;
-  r.zones = ws.collision.zones;
+  r.zones = ws.collision.zones.figures;
   return r;
 }
 
@@ -232,9 +232,8 @@ TEST_CASE("impact zones: the same bytes at 1, 2 and 3 threads") {
 }
 
 TEST_CASE("the Kick body's fastest frames (shared data, skipped without it): no crossing from frame 52 to 66") {
-  const auto data = test::shared_data();
-  const auto seq = data / "colliders" / "animated" / "cipc_kick";
-  if (data.empty() || !std::filesystem::is_directory(seq)) {
+  const auto seq = test::kick_sequence();
+  if (seq.empty()) {
     MESSAGE("shared data not found (../shared/data): skipped");
     return;
   }
@@ -244,13 +243,7 @@ TEST_CASE("the Kick body's fastest frames (shared data, skipped without it): no 
   // kicking leg and the body. With impactZoneIterations="0" the same window has 10 crossing pairs at frame 60,
   // 4 at 64, 428 at 65 and 671 at 66, the sheet left 0.03 mm from the body.
   const auto dir = scratch_dir("zones_kick_window");
-  write_text(dir / "s.xml", R"(<scene>
-  <simulation timestep="0.0004" fps="25" startFrame="52" endFrame="66" collisionIterations="2"/>
-  <forces><airDamping value="0.2"/></forces>
-  <static name="body" sequence=")" + (seq / "shell#.obj.gz").string() + R"(" friction="0.5"/>
-  <cloth name="sheet" grid="24 24" size="0.9 0.9" translate="0.26 1.179 0.77" friction="0.5" selfCollision="true">
-    <density value="0.3"/><stiffness value="150" bend="0.1"/><damping value="0.02"/><thickness value="0.006"/>
-  </cloth></scene>)");
+  write_text(dir / "s.xml", test::kick_scene(seq, 52, 66, Vec3(0.26, 1.179, 0.77), R"(selfCollision="true")"));
   auto sc = load_collision_scene(dir / "s.xml");
   Index penetrations = 0;
   Real nearest = 1e9;
@@ -258,7 +251,7 @@ TEST_CASE("the Kick body's fastest frames (shared data, skipped without it): no 
   test::run_frames(sc, [&](int f, const Model& m, const State& s, const Workspace& ws) {
     penetrations += count_collider_crossings(m, s.x, ws.collision, 0) + count_intersecting_triangles(m, s.x);
     if (f > 53) nearest = std::min(nearest, min_collider_distance(m, s.x, ws.collision, 0));
-    zone_steps = ws.collision.zones.steps;
+    zone_steps = ws.collision.zones.figures.steps;
   });
   CHECK(penetrations == 0);
   CHECK(zone_steps > 100);  // the zones did the work: they ran in hundreds of the 1,400 steps
