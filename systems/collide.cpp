@@ -380,10 +380,11 @@ bool edge_edge_crossing(const Vec3 x0[4], const Vec3 x1[4], Real thick, EdgeProx
 // against each other (each pair once, from the lower edge id), and every cloth edge against collider edges.
 // on_edge(p, fixed, x0, x1, px, n, d, mu) for each pair that met within the thickness: p the four particles
 // (collider vertices for p[2], p[3] when `fixed`), mu the mean friction of the two sides. A cloth edge that came
-// from inside a collider is left to the proximity pass, which sends it out.
-template <class OnEdge>
+// from inside a collider is left to the proximity pass, which sends it out. Only pairs whose cloth particles
+// pass keep(particles, count) are tested.
+template <class Keep, class OnEdge>
 void for_each_edge_crossing(const Model& m, const State& in, const State& out, const CollisionScratch& s,
-                            BroadMode mode, OnEdge&& on_edge) {
+                            BroadMode mode, Keep&& keep, OnEdge&& on_edge) {
   const CollisionModel& c = m.collision;
   parallel_over(Index(c.edge_a.size()), contact_grain, [&](Index e) {
     const Index a = c.edge_a[e], b = c.edge_b[e];
@@ -425,7 +426,7 @@ void for_each_edge_crossing(const Model& m, const State& in, const State& out, c
         Aabb other = swept_box(x0[2], x1[2]);
         grow(other, x0[3]);
         grow(other, x1[3]);
-        if (!boxes_overlap(qi, other)) continue;
+        if (!boxes_overlap(qi, other) || !keep(p, fixed ? 2 : 4)) continue;
         EdgeProximity px;
         Vec3 n;
         Real d;
@@ -447,10 +448,11 @@ void for_each_edge_crossing(const Model& m, const State& in, const State& out, c
 // one-sided), each collider vertex against the cloth triangles (on_collider_vertex(t, v, w, n, d), n pointing
 // from the vertex to the side the triangle must keep; a hit from the collider's outside, by the vertex's outward
 // direction as in the proximity pass), then the edge pairs (for_each_edge_crossing). The continuous pass
-// responds to them; the impact zones merge them.
-template <class OnVertex, class OnColliderVertex, class OnEdge>
+// responds to them; the impact zones merge them. Only pairs whose cloth particles pass keep(particles, count)
+// are tested (the zones' later passes skip pairs none of whose particles they moved).
+template <class Keep, class OnVertex, class OnColliderVertex, class OnEdge>
 void for_each_crossing(const Model& m, const State& in, const State& out, const CollisionScratch& s,
-                       BroadMode mode, OnVertex&& on_vertex, OnColliderVertex&& on_collider_vertex,
+                       BroadMode mode, Keep&& keep, OnVertex&& on_vertex, OnColliderVertex&& on_collider_vertex,
                        OnEdge&& on_edge) {
   const CollisionModel& c = m.collision;
   parallel_over(m.particle_count, contact_grain, [&](Index i) {
@@ -461,6 +463,8 @@ void for_each_crossing(const Model& m, const State& in, const State& out, const 
       const PrimCorners t = corners(m, in, out, s, prim);
       if (t.cloth && !c.vertex_meets_cloth_triangle(i, t.p)) return;
       if (!t.cloth && m.particle_inv_mass[i] == 0) return;
+      const Index cloth_nodes[4] = {i, t.p[0], t.p[1], t.p[2]};
+      if (!keep(cloth_nodes, t.cloth ? 4 : 1)) return;
       const Vec3 x0[4] = {in.x[i], t.x0[0], t.x0[1], t.x0[2]}, x1[4] = {out.x[i], t.x1[0], t.x1[1], t.x1[2]};
       Real when;
       TriangleProximity px;
@@ -475,6 +479,7 @@ void for_each_crossing(const Model& m, const State& in, const State& out, const 
   });
   for_each_collider_vertex_pair(m, in, out, s, mode, [&](Index t, Index v) {
     const Index* p = &m.tri_index[3 * t];
+    if (!keep(p, 3)) return;
     const Real thick = triangle_thickness(m, p);
     const Vec3 x0[4] = {s.collider_x0[v], in.x[p[0]], in.x[p[1]], in.x[p[2]]};
     const Vec3 x1[4] = {s.collider_x1[v], out.x[p[0]], out.x[p[1]], out.x[p[2]]};
@@ -490,7 +495,7 @@ void for_each_crossing(const Model& m, const State& in, const State& out, const 
     if (!std::isfinite(d) || d >= thick) return;
     on_collider_vertex(t, v, px.w, n, d);
   });
-  for_each_edge_crossing(m, in, out, s, mode, on_edge);
+  for_each_edge_crossing(m, in, out, s, mode, keep, on_edge);
 }
 
 // The continuous pass, last (Bridson et al. 2002 §6.2): every crossing of for_each_crossing is sent back to the
@@ -502,7 +507,7 @@ std::int64_t collide_continuous(const Model& m, const State& in, State& out, Col
   const CollisionModel& c = m.collision;
   clear_accumulators(m, s);
   for_each_crossing(
-      m, in, out, s, mode,
+      m, in, out, s, mode, [](const Index*, int) { return true; },
       [&](Index i, Index prim, const PrimCorners& t, const Real* w, const Vec3& n, Real d) {
         respond_vertex_triangle(m, out, s, i, prim, t, w, n, d, h, true);
       },
@@ -551,8 +556,17 @@ void resolve_impact_zones(const Model& m, const State& in, State& out, Collision
       pairs.fetch_add(1, std::memory_order_relaxed);
       if (const int merged = add_zone_pair(z, nodes, count)) links.fetch_add(merged, std::memory_order_relaxed);
     };
+    // After the first pass, a pair none of whose cloth particles is in a zone has not moved since that pass
+    // found it apart (collider vertices move the same in every pass): only pairs touching a zone are tested. A
+    // particle this pass adds to a zone has not moved yet, so whether a thread sees its flag does not matter.
+    auto moved = [&](const Index* p, int count) {
+      if (pass == 0) return true;
+      for (int k = 0; k < count; ++k)
+        if (std::atomic_ref<std::uint8_t>(z.flag[p[k]]).load(std::memory_order_relaxed) & zone_member) return true;
+      return false;
+    };
     for_each_crossing(
-        m, in, out, s, mode,
+        m, in, out, s, mode, moved,
         [&](Index i, Index, const PrimCorners& t, const Real*, const Vec3&, Real) {
           const Index base = t.cloth ? 0 : pc;
           const Index nodes[4] = {i, base + t.p[0], base + t.p[1], base + t.p[2]};

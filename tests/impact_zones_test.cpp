@@ -201,7 +201,7 @@ ThroughRun sheets_through_each_other(int zone_iterations, int threads) {
 
 }  // namespace
 
-TEST_CASE("impact zones: sheets driven through each other in one step end with no crossing; without zones, 53") {
+TEST_CASE("impact zones: sheets driven through each other in one step end with no crossing (53 without zones)") {
   // Two continuous passes respond to every crossing, but each vertex gets the average of its responses, so the
   // sheets end tangled: 53 intersecting triangle pairs. The zones merge the pairs still crossing and move each
   // zone rigidly from its clean start: none is left, in two passes (the second finds nothing).
