@@ -90,6 +90,10 @@ void time_collide(benchmark::State& st, const Sheet& s) {
   set_counters(st, s.built.model);
   st.counters["contacts_per_pass"] =
       benchmark::Counter(double(ws.collision.contacts_found) / double(st.iterations() + 1));
+  // Calls that ran the impact zones (crossings left after the continuous passes), and their passes per call.
+  const ZoneFigures& zones = ws.collision.zones.figures;
+  st.counters["zone_calls"] = benchmark::Counter(double(zones.steps) / double(st.iterations() + 1));
+  st.counters["zone_passes"] = benchmark::Counter(double(zones.passes) / double(st.iterations() + 1));
   st.SetLabel(s.built.model.collision.broad_phase == BroadPhase::hash ? "hash" : "bvh");
 }
 

@@ -91,6 +91,7 @@ void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& 
     return;
   }
   c.iterations = scene.simulation.collision_iterations;
+  c.zone_iterations = scene.simulation.impact_zone_iterations;
   c.broad_phase = scene.simulation.broad_phase;
 
   c.particle_cloth.resize(m.particle_count);
@@ -194,6 +195,14 @@ void make_collision_workspace(const Model& m, CollisionScratch& s) {
   s.acc_dv.assign(3 * std::size_t(m.particle_count), 0);
   s.acc_dx.assign(3 * std::size_t(m.particle_count), 0);
   s.acc_count.assign(m.particle_count, 0);
+  if (c.impact_zones()) {
+    const std::size_t nodes = std::size_t(m.particle_count) + c.mesh_vertex_count;
+    s.zones.parent.resize(nodes);
+    s.zones.flag.assign(nodes, 0);
+    s.zones.slot.assign(nodes, -1);
+    s.zones.offset.assign(nodes + 1, 0);
+    s.zones.member.resize(nodes);
+  }
 }
 
 }  // namespace clothsim

@@ -35,6 +35,7 @@ struct CollisionModel {
   bool enabled = false;            // any collider, or cloth_contact
   bool cloth_contact = false;      // some pair of cloths (a cloth with itself included) is tested
   int iterations = 0;              // detection + response passes per step
+  int zone_iterations = 0;         // rigid impact zone passes per step when crossings remain (0: none)
   BroadPhase broad_phase = BroadPhase::hash;
   std::vector<ColliderInfo> colliders;
 
@@ -77,6 +78,8 @@ struct CollisionModel {
   std::vector<Index> node_child;       // (2 * node count)
   std::vector<Index> level_offset;     // (levels + 1)
 
+  // Rigid impact zones run in this scene: a broad phase (continuous passes) and zone passes on.
+  bool impact_zones() const { return !prim.empty() && iterations > 0 && zone_iterations > 0; }
   // Whether a vertex or edge of cloth a meets a triangle or edge of cloth b (the narrow phase's pair filter).
   bool cloths_collide(Index a, Index b) const { return cloth_pair[std::size_t(a) * cloth_count + b] != 0; }
   // Vertex i against the cloth triangle with corners tri[0..2]: their cloths meet and i is not a corner.
@@ -100,6 +103,30 @@ struct HashScratch {
   std::vector<Index> bucket_fill;       // (table_size)
 };
 
+// What the impact zones did, summed over steps until read (--stats clears them each frame).
+struct ZoneFigures {
+  std::int64_t steps = 0;       // steps that ran the zones (crossings left after the continuous passes)
+  std::int64_t passes = 0;      // detection passes of those steps
+  std::int64_t zones = 0;       // zones at the end of those steps
+  std::int64_t zone_nodes = 0;  // nodes in them (cloth vertices and collider vertices)
+  std::int64_t largest = 0;     // most nodes in one zone
+  std::int64_t unresolved = 0;  // steps that stopped with pairs left (the cap, or a pass that merged nothing)
+};
+
+// Rigid impact zones (Provot 1997; Bridson, Fedkiw & Anderson 2002 §6.3; systems/impact_zones.h). A node is a
+// cloth particle (0 .. particle_count - 1) or a collider mesh vertex (particle_count + its index). Every array
+// holds one entry per node, so no pass can find more zones or members than there is room for: nothing to
+// overflow. Sized only when the scene has a broad phase and zones are on.
+struct ZoneScratch {
+  std::vector<Index> parent;         // union-find parent; a zone's root is its smallest node (node count)
+  std::vector<std::uint8_t> flag;    // zone_member: in a zone this step; zone_touched: in a pair of this pass
+  std::vector<Index> slot;           // the zone number of a root whose zone this pass refits, else -1
+  std::vector<Index> offset;         // CSR of the refitted zones' members, ascending: (node count + 1)
+  std::vector<Index> member;         // (node count)
+  Index zone_count = 0;              // zones refitted by this pass
+  ZoneFigures figures;
+};
+
 struct CollisionScratch {
   std::vector<Vec3> collider_x0, collider_x1;  // collider mesh vertices at the start and end of the step
   std::vector<Aabb> prim_box;           // swept, thickness-inflated box per prim (prim count)
@@ -111,6 +138,7 @@ struct CollisionScratch {
   std::vector<std::int64_t> acc_dv, acc_dx;  // (3 * particle_count)
   std::vector<std::int32_t> acc_count;       // (particle_count)
   std::int64_t contacts_found = 0;           // contacts of the first pass, summed over steps
+  ZoneScratch zones;
 };
 
 }  // namespace clothsim

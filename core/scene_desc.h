@@ -23,6 +23,8 @@ struct SimulationDesc {
   Integrator integrator = Integrator::symplectic;
   Vec3 gravity{0, -9.81, 0};   // m/s^2
   int collision_iterations = 2;
+  // rigid impact zone passes per step after the continuous pass (Bridson et al. 2002 §6.3); 0: none
+  int impact_zone_iterations = 16;
   // implicit integrator (Baraff & Witkin 1998): CG stops at |r| <= cg_tolerance |b| or after cg_max_iterations;
   // newton_iterations linear solves per step (1 = Baraff & Witkin's single linearised solve)
   Real cg_tolerance = 1e-6;

@@ -15,6 +15,7 @@ class JsonWriter {
   JsonWriter& value(double v);
   JsonWriter& value(long long v) { comma(); s_ += std::to_string(v); return *this; }
   JsonWriter& value(int v) { return value(static_cast<long long>(v)); }
+  JsonWriter& value(long v) { return value(static_cast<long long>(v)); }  // std::int64_t on Linux
   JsonWriter& value(std::string_view v) { comma(); string_literal(v); return *this; }
   JsonWriter& value(bool v) { comma(); s_ += v ? "true" : "false"; return *this; }
   template <class T>

@@ -168,7 +168,7 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
   ElementReader r(file, text, n,
                   {"timestep", "fps", "startFrame", "endFrame", "integrator", "gravity", "collisionIterations",
                    "cgTolerance", "cgMaxIterations", "newtonIterations", "preconditioner",
-                   "broadPhase", "checkpointEvery", "clothCollision"});
+                   "broadPhase", "checkpointEvery", "clothCollision", "impactZoneIterations"});
   sim.timestep = r.positive("timestep", sim.timestep, "s");
   sim.fps = r.positive("fps", sim.fps, "frames per second");
   sim.start_frame = r.integer("startFrame", sim.start_frame);
@@ -187,6 +187,8 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
   sim.gravity = r.vec3("gravity", sim.gravity);
   sim.collision_iterations = r.integer("collisionIterations", sim.collision_iterations);
   if (sim.collision_iterations < 0) r.bad("collisionIterations", "an integer >= 0");
+  sim.impact_zone_iterations = r.integer("impactZoneIterations", sim.impact_zone_iterations);
+  if (sim.impact_zone_iterations < 0) r.bad("impactZoneIterations", "an integer >= 0");
   sim.cg_tolerance = r.positive("cgTolerance", sim.cg_tolerance, "relative CG residual");
   if (sim.cg_tolerance >= 1) r.bad("cgTolerance", "a number in (0, 1) (relative CG residual)");
   sim.cg_max_iterations = r.integer("cgMaxIterations", sim.cg_max_iterations);

@@ -51,6 +51,13 @@ std::string format_stats(const Model& m, const RunStats& s) {
     }
     if (m.collision.enabled) {
       j.field("contacts", f.contacts).field("penetrations", f.penetrations);
+      if (m.collision.impact_zones()) {
+        j.key("impact_zones").begin_object()
+            .field("steps", f.zones.steps).field("passes", f.zones.passes).field("zones", f.zones.zones)
+            .field("vertices", f.zones.zone_nodes).field("largest", f.zones.largest)
+            .field("unresolved", f.zones.unresolved)
+            .end_object();
+      }
       j.key("collider_distance").begin_object();
       for (std::size_t c = 0; c < f.collider_distance.size(); ++c)
         j.field(m.collision.colliders[c].name, f.collider_distance[c]);

@@ -17,6 +17,7 @@ struct FrameStats {
   long long penetrations = 0;             // independent check: vertices inside colliders + crossing triangle pairs
   std::vector<int> cg_iterations;  // implicit: CG iterations of each step of the frame (empty otherwise)
   std::vector<Real> cg_residual;   // implicit: final relative CG residual |r|/|b| of each step
+  ZoneFigures zones;               // rigid impact zones of this frame's steps (written when the scene has them)
 };
 
 struct RunStats {

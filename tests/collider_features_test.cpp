@@ -184,9 +184,8 @@ TEST_CASE("collider vertex and edge passes give the same bytes at 1 and 2 thread
 }
 
 TEST_CASE("the Kick body's first contact (shared data, skipped without it): no cloth triangle crosses the body") {
-  const auto data = test::shared_data();
-  const auto seq = data / "colliders" / "animated" / "cipc_kick";
-  if (data.empty() || !std::filesystem::is_directory(seq)) {
+  const auto seq = test::kick_sequence();
+  if (seq.empty()) {
     MESSAGE("shared data not found (../shared/data): skipped");
     return;
   }
@@ -195,13 +194,7 @@ TEST_CASE("the Kick body's first contact (shared data, skipped without it): no c
   // triangles, finer than the sheet's 3.9 cm) within a frame. Without the collider-vertex and collider-edge
   // passes this test counts 79, 87 and 120 crossing pairs at frames 6, 7 and 8 and a nearest vertex 0.05 mm off.
   const auto dir = scratch_dir("features_kick");
-  write_text(dir / "s.xml", R"(<scene>
-  <simulation timestep="0.0004" fps="25" startFrame="4" endFrame="8" collisionIterations="2"/>
-  <forces><airDamping value="0.2"/></forces>
-  <static name="body" sequence=")" + (seq / "shell#.obj.gz").string() + R"(" friction="0.5"/>
-  <cloth name="sheet" grid="24 24" size="0.9 0.9" translate="0 1.4794 0" friction="0.5">
-    <density value="0.3"/><stiffness value="150" bend="0.1"/><damping value="0.02"/><thickness value="0.006"/>
-  </cloth></scene>)");
+  write_text(dir / "s.xml", test::kick_scene(seq, 4, 8, Vec3(0, 1.4794, 0)));
   auto sc = load_collision_scene(dir / "s.xml");
   Index penetrations = 0;
   Real nearest = 1e9;

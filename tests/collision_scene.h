@@ -2,6 +2,7 @@
 // Builds a scene written into a scratch folder the way `clothsim run` does (scene, cloth and collider meshes,
 // Model, collision tables), for the collision tests.
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -40,6 +41,33 @@ inline std::filesystem::path shared_data() {
   for (const auto& up : {root.parent_path(), root.parent_path().parent_path()})
     if (std::filesystem::is_directory(up / "shared" / "data")) return up / "shared" / "data";
   return {};
+}
+
+// The Kick animation of the shared data (colliders/animated/cipc_kick), or empty when the data is absent: the
+// tests that use it then skip.
+inline std::filesystem::path kick_sequence() {
+  const std::filesystem::path data = shared_data();
+  if (data.empty() || !std::filesystem::is_directory(data / "colliders" / "animated" / "cipc_kick")) return {};
+  return data / "colliders" / "animated" / "cipc_kick";
+}
+
+// The Kick drop of docs/performance.md, frames first..last: the 24 x 24 sheet (0.9 m, 6 mm thick, density 0.3,
+// stiffness 150, bend 0.1, damping 0.02, friction 0.5, air damping 0.2) at rest, centred at `at`, over the body
+// (friction 0.5), 0.4 ms steps at 25 fps, collisionIterations 2; `cloth_extra` adds attributes to <cloth>.
+inline std::string kick_scene(const std::filesystem::path& sequence, int first, int last, const Vec3& at,
+                              const std::string& cloth_extra = "") {
+  char head[512];
+  std::snprintf(head, sizeof head, R"(<scene>
+  <simulation timestep="0.0004" fps="25" startFrame="%d" endFrame="%d" collisionIterations="2"/>
+  <forces><airDamping value="0.2"/></forces>
+)", first, last);
+  char cloth[512];
+  std::snprintf(cloth, sizeof cloth, R"(  <cloth name="sheet" grid="24 24" size="0.9 0.9" translate="%.17g %.17g %.17g" friction="0.5" %s>
+    <density value="0.3"/><stiffness value="150" bend="0.1"/><damping value="0.02"/><thickness value="0.006"/>
+  </cloth></scene>)", at.x(), at.y(), at.z(), cloth_extra.c_str());
+  return std::string(head) + R"(  <static name="body" sequence=")" + (sequence / "shell#.obj.gz").string() +
+         R"(" friction="0.5"/>
+)" + cloth;
 }
 
 // Runs every frame of a scene, calling check(frame, model, state, workspace) after each.

@@ -69,6 +69,8 @@ long long peak_rss_bytes() {
 void add_collision_stats(const Model& model, const State& state, Workspace& ws, io::FrameStats& f) {
   f.contacts = ws.collision.contacts_found;
   ws.collision.contacts_found = 0;
+  f.zones = ws.collision.zones.figures;
+  ws.collision.zones.figures = {};
   f.penetrations = count_intersecting_triangles(model, state.x);
   for (Index c = 0; c < Index(model.collision.colliders.size()); ++c) {
     f.collider_distance.push_back(min_collider_distance(model, state.x, ws.collision, c));
@@ -153,7 +155,7 @@ int cmd_run(int argc, char** argv) {
       status = exit_diverged;
       break;
     }
-    stats.frames.push_back({frame, max_spring_strain(model, state.x), kinetic_energy(model, state.v), 0, {}, 0, {}, {}});
+    stats.frames.push_back({frame, max_spring_strain(model, state.x), kinetic_energy(model, state.v), 0, {}, 0, {}, {}, {}});
     if (model.collision.enabled && args.has("--stats")) add_collision_stats(model, state, ws, stats.frames.back());
     for (const Workspace::SolveRecord& r : ws.solve_log) {
       stats.frames.back().cg_iterations.push_back(r.cg_iterations);
