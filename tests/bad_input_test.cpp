@@ -90,7 +90,7 @@ TEST_CASE("bad input: exit code 2, file, line and expectation in the message, no
   }
 }
 
-TEST_CASE("polygons are split into triangles with their count reported; a bad OBJ never crashes info") {
+TEST_CASE("polygons are split into triangles with their count reported, a bad OBJ never crashes info") {
   const fs::path dir = scratch_dir("bad_info");
   write_text(dir / "pent.obj", "v 0 0 0\nv 1 0 0\nv 1.5 1 0\nv 0.5 1.5 0\nv -0.5 1 0\nf 1 2 3 4 5\n");
   const CliResult r = run_cli("info " + (dir / "pent.obj").string() + " --json");

@@ -135,7 +135,7 @@ TEST_CASE("info reports hand-counted figures for a quad of two triangles") {
     CHECK_MESSAGE(r.output.find(key) != std::string::npos, key);
 }
 
-TEST_CASE("validate checks a scene without simulating; --help works; unknown options are errors") {
+TEST_CASE("validate checks a scene without simulating, --help works, unknown options are errors") {
   const fs::path dir = scratch_dir("validate");
   write_text(dir / "scene.xml", scene_with("rk4"));
   const CliResult ok = run_cli("validate " + (dir / "scene.xml").string());

@@ -88,7 +88,7 @@ TEST_CASE("constant maps and the same scalar values give byte-identical frames")
   CHECK(read_text(dir / "scalar" / frame_name("sheet", 1)) != read_text(dir / "scalar" / frame_name("sheet", 6)));
 }
 
-TEST_CASE("several cloths in one scene: each its own mesh, maps, output name and folder; same bytes at 1 and 2 threads") {
+TEST_CASE("several cloths in one scene: each its own mesh, maps, output name and folder, same bytes at 1 and 2 threads") {
   const auto dir = scratch_dir("maps_many");
   std::vector<std::uint16_t> ramp;
   for (int i = 0; i < 16; ++i) ramp.push_back(std::uint16_t(17 * i));

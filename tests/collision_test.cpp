@@ -135,7 +135,7 @@ TEST_CASE("restitution: a flat cloth leaves the ground with the set ratio of nor
   CHECK(rebound / impact == doctest::Approx(0.5).epsilon(0.1));
 }
 
-TEST_CASE("tunnelling: a sphere crossing a pinned sheet at 20 m/s pushes it; no vertex ends on the wrong side") {
+TEST_CASE("tunnelling: a sphere crossing a pinned sheet at 20 m/s pushes it, no vertex ends on the wrong side") {
   // The sphere (r = 0.15 m) moves down at 20 m/s (0.2 m per frame at 100 fps, 2 cm per step: four times the
   // thickness) from 0.4 m above the sheet until its centre is 0.1 m below it, then stops.
   const auto dir = scratch_dir("collision_tunnel");

@@ -61,7 +61,7 @@ TEST_CASE("a grid model holds its hand-counted bytes: no spring CSR, no per-spri
   CHECK(workspace_bytes(make_workspace(m)) == std::size_t(48 * g.particles));  // f and normals
 }
 
-TEST_CASE("a parameter varying by spring kind costs a palette and a byte a spring; kernels that read the CSR get it") {
+TEST_CASE("a parameter varying by spring kind costs a palette and a byte a spring, kernels that read the CSR get it") {
   SceneDesc s = test::grid_scene(16, 16, 1.0, Integrator::implicit);
   s.cloths[0].bend_scale = 0.5;  // flex springs differ from the others: two stiffness values
   const BuiltScene b = test::build(s);

@@ -8,7 +8,7 @@
 
 using namespace clothsim;
 
-TEST_CASE("a uniform parameter stays one scalar; a varying one becomes an array") {
+TEST_CASE("a uniform parameter stays one scalar, a varying one becomes an array") {
   const BuiltScene uniform = test::build(test::grid_scene(4, 4, 1.0, Integrator::symplectic));
   CHECK(uniform.model.spring_ke.uniform());
   CHECK(uniform.model.spring_ke.bytes() == sizeof(Real));

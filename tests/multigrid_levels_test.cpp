@@ -34,7 +34,7 @@ TEST_CASE("an 8 x 8 grid aggregates into 2 x 2 squares, then 4 x 4, with the han
   CHECK(mg.dense.rows() == 12);
 }
 
-TEST_CASE("pinned particles belong to no aggregate; their springs ground the aggregates they reach") {
+TEST_CASE("pinned particles belong to no aggregate, their springs ground the aggregates they reach") {
   SceneDesc scene = test::grid_scene(11, 9, 1.0, Integrator::implicit);
   scene.cloths[0].pins = {0, 10, 50};
   const BuiltScene b = test::build(scene);

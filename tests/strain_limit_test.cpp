@@ -232,7 +232,7 @@ TEST_CASE("a chain pinned at one end and stretched: the tethers alone give the p
   CHECK(max_spring_strain(s.model, s.state.x) == doctest::Approx(0.2));
 }
 
-TEST_CASE("a free spring is projected in one sweep, each end half way; a free chain keeps its momentum") {
+TEST_CASE("a free spring is projected in one sweep, each end half way, a free chain keeps its momentum") {
   // Two equal masses 1.5 apart, limit 1.2: each end moves 0.15 towards the other (Provot's split by inverse mass).
   BuiltScene one = chain(1, 1.5, 0.2, false);
   CHECK(one.model.tether_particle.empty());  // no pin, no tether

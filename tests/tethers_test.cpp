@@ -26,7 +26,7 @@ Real tether_of(const Model& m, Index particle) {
 
 }  // namespace
 
-TEST_CASE("tethers: a grid ties each free particle to its pin by the straight rest distance; a mesh by the springs") {
+TEST_CASE("tethers: a grid ties each free particle to its pin by the straight rest distance, a mesh by the springs") {
   BuiltScene b = small_grid({0});
   Model& m = b.model;
   CHECK(m.tether_particle.size() == 8);  // every particle but the pin
@@ -42,7 +42,7 @@ TEST_CASE("tethers: a grid ties each free particle to its pin by the straight re
   CHECK(tether_of(m, 8) == doctest::Approx(1.1 * std::sqrt(2.0)));  // the shear diagonal is straight
 }
 
-TEST_CASE("tethers: with two pins each particle goes to the nearer one; none without pins or without a limit") {
+TEST_CASE("tethers: with two pins each particle goes to the nearer one, none without pins or without a limit") {
   const BuiltScene two = small_grid({0, 2});
   const Model& m = two.model;
   REQUIRE(m.tether_particle.size() == 7);

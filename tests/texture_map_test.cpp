@@ -51,7 +51,7 @@ TEST_CASE("a horizontal gradient map gives each grid vertex min + (max - min) u 
   CHECK(built.model.spring_kd.uniform());  // damping was not mapped: one scalar
 }
 
-TEST_CASE("v runs bottom to top as in OBJ; UVs outside [0, 1] wrap; texel centres are exact") {
+TEST_CASE("v runs bottom to top as in OBJ, UVs outside [0, 1] wrap, texel centres are exact") {
   const auto dir = scratch_dir("map_convention");
   // Row 0 (the top of the picture) white, row 1 black; columns: 0, 1/3, 2/3, 1 of white.
   write_png(dir / "rows.png", 4, 2, 1, 8, {255, 255, 255, 255, 0, 0, 0, 0});

@@ -39,7 +39,7 @@ TEST_CASE("closed meshes have E = 3F/2 edges and one bend spring per edge") {
   CHECK(t.nonmanifold_edges == 0);
 }
 
-TEST_CASE("a non-manifold edge is counted and gets no bend spring; pieces and degenerate triangles are counted") {
+TEST_CASE("a non-manifold edge is counted and gets no bend spring, pieces and degenerate triangles are counted") {
   // Three triangles on the edge 0-1, a separate triangle, and one with a repeated corner.
   const std::vector<Vec3> p{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1},
                             {5, 0, 0}, {6, 0, 0}, {5, 1, 0}};
