@@ -108,6 +108,9 @@ Topology build_topology(const MeshData& mesh) {
         const Index ra = find_root(parent, a), rb = find_root(parent, b);
         if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
       }
+      // A triangle with a repeated corner has no face to share: its edges become springs, but it neither
+      // closes a boundary edge nor makes an edge non-manifold (it lists its one real edge twice).
+      if (repeated) continue;
       if (edge_tris[e] < 2) edge_opposite[2 * e + edge_tris[e]] = c[(k + 2) % 3];
       ++edge_tris[e];
     }
