@@ -139,3 +139,25 @@ TEST_CASE("edge-edge CCD in a common plane: both edges moving, and the plane til
     CHECK(hit.t == doctest::Approx(1));
   }
 }
+
+TEST_CASE("a vertex sliding within a triangle's plane: its cubic vanishes, and its edge meets the triangle's edge") {
+  // Triangle a (0,0,0), b (1,0,0), c (0,1,0) in z = 0. Vertex v slides in that plane from (0.5, -0.5, 0) to
+  // (0.5, 0.5, 0), entering the triangle across edge ab at t = 0.5; its edge to u = (0.5, -0.5, 0.3) leaves the
+  // plane. The vertex-triangle cubic is zero for the whole step, so that test only sees the start, outside.
+  const Vec3 x0[4] = {Vec3(0.5, -0.5, 0), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  const Vec3 x1[4] = {Vec3(0.5, 0.5, 0), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  CHECK(coplanar_throughout(x0, x1));
+  Real t = -1;
+  TriangleProximity vt;
+  CHECK_FALSE(vertex_triangle_ccd(x0, x1, 0.01, t, vt));
+  // Edge vu against edge ab: the four points are coplanar when v is on ab's line (t = 0.5), where the edges touch
+  // at v: s = 0 along vu, 0.5 along ab.
+  const Vec3 u(0.5, -0.5, 0.3);
+  const Vec3 e0[4] = {x0[0], u, x0[1], x0[2]}, e1[4] = {x1[0], u, x1[1], x1[2]};
+  EdgeProximity hit;
+  REQUIRE(edge_edge_ccd(e0, e1, 0.01, t, hit));
+  CHECK(t == doctest::Approx(0.5));
+  CHECK(hit.s == doctest::Approx(0).scale(1));
+  CHECK(hit.t == doctest::Approx(0.5));
+  CHECK(hit.d == doctest::Approx(0).scale(1));
+}
