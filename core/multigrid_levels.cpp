@@ -217,7 +217,7 @@ Multigrid build_multigrid_levels(const Model& m, Index coarsest_nodes) {
     const Index n = 3 * mg.levels.back().node_count;
     mg.dense_coarsest = true;
     mg.dense.setZero(n, n);
-    mg.dense_factor = Eigen::LLT<Eigen::MatrixXd>(n);
+    mg.dense_factor.setZero(n, n);
     mg.dense_rhs.setZero(n);
   }
   return mg;

@@ -53,7 +53,10 @@ struct Multigrid {
   // otherwise (coarsening stalled on many disconnected pieces) it is only smoothed.
   bool dense_coarsest = false;
   Eigen::MatrixXd dense;              // (3 n x 3 n) of the coarsest level, assembled each step
-  Eigen::LLT<Eigen::MatrixXd> dense_factor;
+  // Its Cholesky factor L in the lower triangle, factored in place each step. Not an Eigen::LLT member: an LLT
+  // leaves its status field unset until compute(), so moving the model-time Multigrid copied an unset enum
+  // (undefined behaviour; UBSan stops the CI's sanitizer suite on it).
+  Eigen::MatrixXd dense_factor;
   Eigen::VectorXd dense_rhs;          // (3 n)
 };
 

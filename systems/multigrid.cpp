@@ -100,7 +100,9 @@ struct Cycle {
   void solve_dense(std::span<const Vec3> b, std::span<Vec3> out) {
     const Index n = mg.levels.back().node_count;
     for (Index k = 0; k < n; ++k) mg.dense_rhs.segment<3>(3 * k) = b[k];
-    mg.dense_factor.solveInPlace(mg.dense_rhs);
+    const auto lower = mg.dense_factor.triangularView<Eigen::Lower>();
+    lower.solveInPlace(mg.dense_rhs);
+    lower.adjoint().solveInPlace(mg.dense_rhs);
     for (Index k = 0; k < n; ++k) out[k] = mg.dense_rhs.segment<3>(3 * k);
   }
 };
@@ -152,7 +154,8 @@ void build_multigrid_operators(const Model& m, Real h, Workspace& ws) {
       for (Index k = L.row_offset[n]; k < L.row_offset[n + 1]; ++k)
         mg.dense.block<3, 3>(3 * n, 3 * L.row_col[k]) = -L.edge_block[L.row_edge[k]].full();
     }
-    mg.dense_factor.compute(mg.dense);
+    mg.dense_factor = mg.dense;  // same size: no allocation
+    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> in_place(mg.dense_factor);
   }
 }
 
