@@ -112,7 +112,7 @@ TEST_CASE("progress: one line per frame when stderr is not a terminal") {
   CHECK(r.output.find("frame 0006  6/6") != std::string::npos);
 }
 
-TEST_CASE("every bundled example runs and writes its frames") {
+TEST_CASE("every bundled example runs and writes its frames" * doctest::test_suite("slow")) {
   for (const char* scene : {"flag/flag.xml", "hanging_sheet/sheet.xml", "pieces/pieces.xml", "two_sheets/two_sheets.xml"}) {
     CAPTURE(scene);
     const fs::path dir = scratch_dir(std::string("example_") + fs::path(scene).stem().string());

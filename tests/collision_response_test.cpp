@@ -159,7 +159,7 @@ std::string stack_scene(Real timestep, int end_frame) {
 
 }  // namespace
 
-TEST_CASE("stacked sheets settle: a sheet dropped on a sheet lying on the ground comes to rest on it") {
+TEST_CASE("stacked sheets settle: a sheet dropped on a sheet lying on the ground comes to rest on it" * doctest::test_suite("slow")) {
   // 2 s at a 0.25 ms step. The drop's potential energy m g 5 cm (m = 0.05 kg: 0.2 kg/m^2 over 0.25 m^2) is
   // 0.0245 J.
   const StackRun r = run_stack("settle", stack_scene(0.00025, 49));

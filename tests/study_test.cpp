@@ -64,7 +64,7 @@ void check_charts(const fs::path& dir, std::initializer_list<const char*> names)
 
 }  // namespace
 
-TEST_CASE("study accuracy --quick: convergence orders, every method and step, converged references, charts") {
+TEST_CASE("study accuracy --quick: convergence orders, every method and step, converged references, charts" * doctest::test_suite("slow")) {
   const fs::path dir = scratch_dir("study_accuracy");
   const CliResult r = run_cli("study accuracy --quick --out " + dir.string());
   INFO(r.output);
@@ -117,7 +117,7 @@ TEST_CASE("study accuracy --quick: convergence orders, every method and step, co
   check_charts(dir, {"work_precision", "error_vs_step"});
 }
 
-TEST_CASE("study stability --quick: measured limits within 10% of the linear theory") {
+TEST_CASE("study stability --quick: measured limits within 10% of the linear theory" * doctest::test_suite("slow")) {
   const fs::path dir = scratch_dir("study_stability");
   const CliResult r = run_cli("study stability --quick --out " + dir.string());
   INFO(r.output);
