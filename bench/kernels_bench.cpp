@@ -135,7 +135,7 @@ void BM_obj_frame(benchmark::State& st) {
   set_counters(st, m.particle_count, double(size));
 }
 
-// Sizes x threads: 1 thread and every core; the 1024^2 sheet only where the targets need it.
+// Sizes x threads: 1 thread and every core; the 1024^2 sheet only where the throughput targets need it.
 void sizes_threads(benchmark::internal::Benchmark* b) {
   const int all = tbb::info::default_concurrency();
   for (int n : {64, 256, 1024})
