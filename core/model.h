@@ -79,7 +79,7 @@ struct Model {
   // built only when a kernel reads it (core/csr.h needs_particle_springs: not for the blocked layout alone)
   std::vector<Index> particle_spring_offset;  // (particle_count + 1, or 0)
   std::vector<Index> particle_spring_index;   // (2 * spring_count, or 0)
-  SpringLayout spring_layout = SpringLayout::gather;  // blocked where build_spring_chunks succeeds
+  SpringLayout spring_layout = SpringLayout::gather;  // build_model sets blocked where the chunks allow it
   // blocked layout (core/spring_chunks.h): chunks of consecutive springs, grouped into passes whose chunks touch
   // disjoint particle ranges, so one pass scatters into f in parallel without races (empty for other layouts)
   std::vector<Index> spring_chunk_offset;     // first spring of each chunk (chunk count + 1)
