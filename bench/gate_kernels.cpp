@@ -1,4 +1,4 @@
-// The CI gate's workload (issue 7 §5): each kernel once on the fixed 64 x 64 sheet at one thread, each inside
+// The CI gate's workload (docs/performance.md): each kernel once on the fixed 64 x 64 sheet at one thread, each inside
 // its own callgrind collection window and dumped under the kernel's name. Run by bench/gate under
 // `valgrind --tool=callgrind --collect-atstart=no`; outside valgrind the client requests do nothing.
 #include <tbb/global_control.h>

@@ -1,4 +1,4 @@
-// Per-kernel benchmarks on 64^2, 256^2 and 1024^2 sheets (issue 7 §1), in the style of MuJoCo's step
+// Per-kernel benchmarks on 64^2, 256^2 and 1024^2 sheets (docs/performance.md), in the style of MuJoCo's step
 // benchmark: build once, warm up, save the state, restore it before each timed batch. Second argument: threads.
 // Counters: items_per_second (springs/s or particle-steps/s) and bytes_per_second (kernel_traffic.h's model).
 #include <benchmark/benchmark.h>
@@ -71,7 +71,7 @@ void BM_springs(benchmark::State& st, SpringLayout layout) {
   set_counters(st, m.spring_count, bytes_springs(m, layout));
 }
 
-// How the blocked step is scheduled, to measure each change of issue 7 against the one before in one run.
+// How the blocked step is scheduled, so that each schedule is measured against the one before it in one run.
 enum class Schedule {
   fused,           // the default: external forces and the update inside the spring pass, automatic chunk size
   unfused,         // the same chunks, external forces and the update as separate passes
@@ -135,7 +135,7 @@ void BM_obj_frame(benchmark::State& st) {
   set_counters(st, m.particle_count, double(size));
 }
 
-// Sizes x threads: 1 thread and every core; the 1024^2 sheet only where the issue's targets need it.
+// Sizes x threads: 1 thread and every core; the 1024^2 sheet only where the throughput targets need it.
 void sizes_threads(benchmark::internal::Benchmark* b) {
   const int all = tbb::info::default_concurrency();
   for (int n : {64, 256, 1024})

@@ -1,4 +1,4 @@
-"""Peer side by side (issue 7 section 6): the same sheet (1 m square, 1 kg, hanging from the two corners of one
+"""Peer side by side: the same sheet (1 m square, 1 kg, hanging from the two corners of one
 edge, starting flat) for the same simulated time in Blender's cloth modifier, baked headless, and in clothsim,
 in one run, on one machine.
 

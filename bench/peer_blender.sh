@@ -1,6 +1,7 @@
 #!/bin/sh
-# Runs bench/peer_blender.py (Blender's cloth modifier against clothsim, issue 7 section 6); exits 77 (skipped)
-# where blender is not installed. Usage: bench/peer_blender.sh CLOTHSIM_BIN SCRATCH_DIR [peer_blender.py options]
+# Runs bench/peer_blender.py (Blender's cloth modifier against clothsim, docs/performance.md "Blender"); exits
+# 77 (skipped) where blender is not installed.
+# Usage: bench/peer_blender.sh CLOTHSIM_BIN SCRATCH_DIR [peer_blender.py options]
 here=$(dirname "$0")
 blender=${BLENDER:-blender}
 if ! command -v "$blender" >/dev/null 2>&1; then

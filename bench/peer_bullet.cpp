@@ -1,4 +1,4 @@
-// Peer side by side (issue 7 §6): the same 128 x 128 sheet (1 m, 1 kg, hanging from two corners) for the same
+// Peer side by side (docs/performance.md): the same 128 x 128 sheet (1 m, 1 kg, hanging from two corners) for the same
 // simulated time in clothsim and in Bullet's soft bodies (btSoftBodyHelpers::CreatePatch), in one process.
 // Prints, for each: the step, simulated seconds per wall second and per CPU second (all threads; what a loaded
 // machine cannot inflate), particle-steps per second, the largest strain seen (sampled every 10 steps) and

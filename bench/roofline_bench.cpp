@@ -1,4 +1,4 @@
-// The two roofs of docs/performance.md, measured in the same binary as the kernels (issue 7 §2):
+// The two roofs of docs/performance.md ("Roofline"), measured in the same binary as the kernels:
 //  - memory: a STREAM triad a = b + s c over arrays far larger than the caches, at 1 thread and every core;
 //  - arithmetic: the spring's own operations (bench/spring_ops.h), scalar and vectorised.
 #include <benchmark/benchmark.h>

@@ -1,6 +1,6 @@
 #pragma once
 // The fixed scene every benchmark, the CI gate and the peer comparison share: an n x n grid sheet, 1 m square,
-// 1 kg, hanging from its two corners on the first row, no collisions (issue 7 §3).
+// 1 kg, hanging from its two corners on the first row, no collisions (docs/performance.md).
 #include "core/build_model.h"
 #include "core/scene_desc.h"
 

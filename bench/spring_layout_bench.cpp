@@ -1,6 +1,6 @@
-// Spring-force accumulation layouts side by side (issue 2): per-particle gather (each spring computed from both
+// Spring-force accumulation layouts side by side: per-particle gather (each spring computed from both
 // ends) against two-phase (each spring once into a buffer, then a per-particle gather of the buffer).
-// Both are deterministic; this decides the default. Items are springs.
+// Both are deterministic (docs/performance.md, "Spring-force layouts"). Items are springs.
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 

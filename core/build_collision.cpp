@@ -160,8 +160,8 @@ void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& 
   }
 
   // Teschner et al. 2003 §4: a cell near the size of a hashed box. A triangle's box is about an edge long
-  // plus the thickness on each side, so the cell is mean edge + 2h (bench/collision_bench.cpp: 3.6x fewer
-  // entries than the bare mean edge on a 256^2 sheet, docs/performance.md).
+  // plus the thickness on each side, so the cell is mean edge + 2h (measured by bench/collision_bench.cpp:
+  // docs/performance.md, "Spatial hash against BVH").
   Real edge_sum = 0;
   for (Index t = 0; t < m.tri_count; ++t)
     for (int k = 0; k < 3; ++k)

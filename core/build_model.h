@@ -16,7 +16,7 @@ struct BuiltScene {
 // Throws Error naming the scene file and the cloth's line for settings the mesh cannot honour.
 BuiltScene build_model(const SceneDesc& scene, const std::vector<MeshData>& meshes);
 // The same, consuming the meshes: their UVs move into the model and each mesh is freed once its cloth is built,
-// so a large mesh is not held twice (docs/performance.md, memory).
+// so a large mesh is not held twice (docs/performance.md, "Memory and loading").
 BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes);
 
 // The mesh for a grid cloth (empty MeshData for OBJ cloths, which io reads).

@@ -1,7 +1,7 @@
 #pragma once
-// Bytes held by the arrays a run keeps for its whole length (issue 7: at most 400 bytes a particle on a 1024^2
-// sheet). Capacities, not sizes: what is allocated. The collision model and its scratch are left out (empty
-// without colliders and self-collision).
+// Bytes held by the arrays a run keeps for its whole length (the target: at most 400 bytes a particle on a
+// 1024^2 sheet, docs/performance.md "Memory and loading"). Capacities, not sizes: what is allocated. The
+// collision model and its scratch are left out (empty without colliders and self-collision).
 #include <cstddef>
 
 #include "core/model.h"

@@ -19,7 +19,7 @@ inline constexpr int spring_kind_count = 5;
 inline constexpr std::array<const char*, spring_kind_count> spring_kind_names{
     "edge", "bend", "structural", "shear", "flex"};
 
-// How spring forces are accumulated without floating-point races (docs/performance.md compares them).
+// How spring forces are accumulated without floating-point races (docs/performance.md, "Spring-force layouts").
 enum class SpringLayout {
   gather,     // per particle over a CSR of incident springs: each spring computed twice
   two_phase,  // each spring once into a per-spring buffer, then a per-particle gather of those
@@ -79,7 +79,7 @@ struct Model {
   // built only when a kernel reads it (core/csr.h needs_particle_springs: not for the blocked layout alone)
   std::vector<Index> particle_spring_offset;  // (particle_count + 1, or 0)
   std::vector<Index> particle_spring_index;   // (2 * spring_count, or 0)
-  SpringLayout spring_layout = SpringLayout::gather;  // default chosen by bench/spring_layout_bench.cpp
+  SpringLayout spring_layout = SpringLayout::gather;  // build_model sets blocked where the chunks allow it
   // blocked layout (core/spring_chunks.h): chunks of consecutive springs, grouped into passes whose chunks touch
   // disjoint particle ranges, so one pass scatters into f in parallel without races (empty for other layouts)
   std::vector<Index> spring_chunk_offset;     // first spring of each chunk (chunk count + 1)

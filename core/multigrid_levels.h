@@ -54,8 +54,8 @@ struct Multigrid {
   bool dense_coarsest = false;
   Eigen::MatrixXd dense;              // (3 n x 3 n) of the coarsest level, assembled each step
   // Its Cholesky factor L in the lower triangle, factored in place each step. Not an Eigen::LLT member: an LLT
-  // leaves its status field unset until compute(), so moving the model-time Multigrid copied an unset enum
-  // (undefined behaviour; UBSan stops the CI's sanitizer suite on it).
+  // leaves its status field unset until compute(), so moving the model-time Multigrid would copy an unset enum
+  // (undefined behaviour).
   Eigen::MatrixXd dense_factor;
   Eigen::VectorXd dense_rhs;          // (3 n)
 };

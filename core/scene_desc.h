@@ -12,7 +12,7 @@ namespace clothsim {
 enum class Integrator { euler, symplectic, rk4, implicit };
 // Preconditioner of the implicit step's CG (systems/multigrid.h; docs/stability.md).
 enum class Preconditioner { jacobi, multigrid };
-// Broad phase of the collision stage (docs/performance.md compares them).
+// Broad phase of the collision stage (docs/performance.md, "Spatial hash against BVH", compares them).
 enum class BroadPhase { hash, bvh };
 
 struct SimulationDesc {

@@ -4,7 +4,7 @@
 // they overlap no other chunk's span, so within a pass every particle is written by at most one chunk. A chunk
 // is summed sequentially, and passes run in order: each particle's forces add up in one fixed order, whatever
 // the thread count. Needs spring order to follow particle order (grids, and meshes whose vertex order is local);
-// otherwise spans overlap, passes multiply, and the model keeps the two_phase layout.
+// otherwise spans overlap, passes multiply, and the model keeps the gather layout.
 //
 // Each particle also gets the chunk that opens it (the first, in pass order, whose span holds it: it zeroes
 // the particle's force) and the chunk that closes it (the last: after it, no spring reads or adds to the
@@ -19,7 +19,7 @@ namespace clothsim {
 // The automatic chunk size: spring_count / spring_chunks_wanted rounded down to a power of two, within
 // [spring_chunk_min, spring_chunk_max]. Large chunks keep a grid to two passes and stream each particle about
 // once per evaluation (a chunk's neighbours share only its edges); 64 chunks leave work for many cores. It
-// depends on the model only, never on the thread count (docs/performance.md measured it on 1024^2 and 256^2).
+// depends on the model only, never on the thread count (docs/performance.md, "Spring-force layouts").
 inline constexpr Index spring_block_size = 64;  // springs the kernel evaluates as one vector batch
 inline constexpr Index spring_chunk_min = 4096, spring_chunk_max = 65536;
 inline constexpr Index spring_chunks_wanted = 64;

@@ -538,10 +538,9 @@ std::int64_t collide_continuous(const Model& m, const State& in, State& out, Col
 // collider vertices as node particle_count + v) into zones, and moves the zones that grew, until a pass finds
 // none. It stops early, the step counted as unresolved, when a pass merges nothing (every pair found lies within
 // one zone) or after model.collision.zone_iterations passes. The pairs are those of the continuous pass, met
-// within the thickness, not only actual crossings: with a reach of 1% of the thickness instead, Kick frames
-// 61-84 had 348 intersecting pairs summed over the frames (the squeezed sheet was left micrometres from the body,
-// where the zones then held each crossing in place); with the whole thickness, none (docs/performance.md). So an
-// unresolved step may end with pairs that only graze within the thickness.
+// within the thickness, not only actual crossings: a squeezed sheet left micrometres from a body would otherwise
+// be held there by its zone, crossing and all (docs/performance.md, "Rigid impact zones"). So an unresolved step
+// may end with pairs that only graze within the thickness.
 void resolve_impact_zones(const Model& m, const State& in, State& out, CollisionScratch& s, BroadMode mode, Real h) {
   const CollisionModel& c = m.collision;
   ZoneScratch& z = s.zones;

@@ -106,8 +106,8 @@ void move_free_zone(const Model& m, const State& in, State& out, const Index* me
 // A zone holding immovable nodes (collider vertices, pinned particles) has infinite mass there: as their mass
 // grows, the mass-weighted fit tends to the fit over them alone, so the zone takes the collider's motion. A body
 // is not rigid over a zone that spans a shoulder and a neck, though, and cloth touching it must go where the body
-// goes at that place, not with a compromise over the whole zone: on Kick (frames 61-84 from one state) one fit
-// per zone left 121 steps unresolved, the fits below 34 (docs/performance.md). So each cloth particle of the
+// goes at that place, not with a compromise over the whole zone (one fit per zone left several times the
+// unresolved steps on the real bodies: docs/performance.md, "Rigid impact zones"). So each cloth particle of the
 // zone follows the rigid motion fitted to the zone's immovable nodes weighted by 1 / (d^2 + e^2)^2, d their start
 // distance from it (e: 1% of its thickness): the body's motion next to it, rotation included, from the body
 // vertices its zone's pairs touched. Its velocity is that motion's at its end position; no momentum is kept (the

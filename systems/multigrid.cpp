@@ -5,9 +5,8 @@
 namespace clothsim {
 namespace {
 
-// The cycle's constants, chosen on the peer sheet (docs/performance.md, "The multigrid preconditioner"): the
-// whole 24-frame run's step instructions varied by 6% over omega in [0.6, 0.7] and alpha in [1.2, 1.5]; the W-cycle
-// took 5.3 CG iterations a step against the V-cycle's 11.8, and 39% fewer instructions.
+// The cycle's constants: those that took the fewest instructions on the peer sheet (docs/performance.md, "The
+// multigrid preconditioner", gives the sweep over omega and alpha and the V-cycle against the W-cycle).
 constexpr Real omega = 0.6;  // damping of the block-Jacobi sweep, in (0, 1) (the contraction argument, multigrid.h)
 constexpr int gamma = 2;     // coarse cycles per visit of a level not solved exactly: the W-cycle
 constexpr Real alpha = 1.3;  // scale of the coarse correction, in (0, 2) (multigrid.h)

@@ -13,16 +13,10 @@
 // aggregation (two flexible-CG steps per level, Notay & Vassilevski 2008): about the same work, but a fixed linear
 // operator, so plain CG applies.
 //
-// Why CG may use it. With S = I - omega D^-1 A the sweep and C the coarse solve, one cycle's error propagation is
-// E = S (I - alpha P C P^T A) S, self-adjoint in the energy inner product, so B = (I - E) A^-1 is symmetric; it is
-// positive definite when |E|_A < 1.
-// - S contracts: every spring block is positive semi-definite, so p^T A p <= 2 p^T D p (a spring's
-//   (p_i - p_j)^T B (p_i - p_j) is at most twice p_i^T B p_i + p_j^T B p_j), the eigenvalues of D^-1 A lie in
-//   (0, 2], and those of S in (-1, 1) for 0 < omega < 1.
-// - The coarse step I - alpha P C P^T A does not expand when alpha lambda(C A_c) <= 2. An exact C has
-//   lambda = 1; two cycles of a coarse B with lambda(B A_c) = mu in (0, 2) give C = 2 B - B A_c B, with
-//   lambda(C A_c) = 1 - (1 - mu)^2 in (0, 1]. So with 0 < alpha < 2, by induction from the coarsest level, every
-//   level's cycle has |E|_A < 1 and mu in (0, 2). tests/multigrid_test.cpp checks the spectrum densely.
+// Why CG may use it: the cycle B is a fixed linear operator, symmetric (the sweep after the coarse correction is
+// the one before it), and positive definite because its error propagation E = S (I - alpha P C P^T A) S contracts
+// in the energy norm for 0 < omega < 1 and 0 < alpha < 2 (the proof: docs/stability.md, "Why the multigrid cycle
+// is a valid CG preconditioner"). tests/multigrid_test.cpp checks the spectrum densely.
 #include <span>
 
 #include "systems/implicit_system.h"

@@ -68,7 +68,7 @@ std::int64_t cells_of(const CollisionScratch& s, Index slot, Real inv) {
 
 // The cell this step hashes with: the model's, doubled until the entries fit entry_budget. A cloth that blows up
 // within a frame swells its boxes before the frame's divergence check (exit 3) can stop the run; at the model's
-// cell one box could cover 2^63 cells, and the entry arrays grew to 11.8 GB before the process was killed. Any
+// cell one box could cover 2^63 cells, and the entry arrays would exhaust memory before the check runs. Any
 // cell size finds the same pairs (only the candidates per cell grow), and the choice depends on integer counts
 // alone, so it is the same at any thread count. A sane step needs about 7 entries a prim. Each prim's count at
 // the chosen cell is left in s.hash.prim_cells (every count fits: their sum is within the budget), so the hash

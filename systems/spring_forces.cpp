@@ -28,7 +28,7 @@ void eval_springs_gather(const Model& m, std::span<const Vec3> x, std::span<cons
 namespace {
 
 // Springs [begin, end) of one block (at most spring_lane_block) into structure-of-arrays lanes. The endpoints
-// are gathered into lanes first, so the arithmetic (sqrt and division bound, docs/performance.md) runs as one
+// are gathered into lanes first, so the arithmetic (sqrt and division bound: docs/performance.md) runs as one
 // loop the compiler vectorises. It is spring_force_lane, the expression spring_force uses, so the layouts stay
 // bitwise equal (tests/spring_layouts_test.cpp). Each of ke and kd is read in its field's form (chosen once per
 // block, not per spring): a uniform value stays a scalar, broadcast into the vector loop; a palette is read

@@ -19,7 +19,7 @@ struct SpringLane {
 inline SpringLane spring_force_lane(Real dx, Real dy, Real dz, Real dvx, Real dvy, Real dvz, Real rest, Real ke,
                                     Real kd) {
   const Real len = std::sqrt(dx * dx + dy * dy + dz * dz);
-  // One division, not three: division and sqrt bound this kernel (docs/performance.md, roofline).
+  // One division, not three: division and sqrt bound this kernel (docs/performance.md, "Roofline").
   const Real inv_len = 1 / len;
   const Real nx = inv_len * dx, ny = inv_len * dy, nz = inv_len * dz;
   const Real mag = ke * (len - rest) + kd * (dvx * nx + dvy * ny + dvz * nz);
@@ -37,7 +37,7 @@ inline Vec3 spring_force(const Vec3& xa, const Vec3& xb, const Vec3& va, const V
 // f[i] = sum of the spring forces on particle i (overwrites f), in the model's spring_layout.
 void eval_springs(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f,
                   std::span<Vec3> spring_scratch);
-// The two layouts, callable directly so the benchmark can compare them.
+// The gather and two-phase layouts, callable directly so the benchmark can compare them.
 void eval_springs_gather(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f);
 void eval_springs_two_phase(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v,
                             std::span<Vec3> f, std::span<Vec3> spring_force);

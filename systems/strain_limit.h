@@ -14,8 +14,8 @@ inline constexpr Real strain_limit_tolerance = 1e-3;
 inline constexpr int strain_limit_max_iterations = 500;
 // Over-relaxation of the Gauss-Seidel sweeps after the first (successive over-relaxation of the projections:
 // each moves its spring omega times the way to the limit; 0 < omega < 2 keeps every projection non-expansive
-// towards the feasible set, so the sweeps still converge). On the 1/24 s peer sheet 1.8 took 6.5 sweeps a step
-// where plain Gauss-Seidel took 33, 1.5 took 15 and 1.9 took 5 at 3% more displacement (docs/stability.md).
+// towards the feasible set, so the sweeps still converge). 1.8 took the fewest sweeps on the peer sheet without
+// moving the cloth further (docs/stability.md, "Strain limiting", gives each value's sweeps).
 inline constexpr Real strain_limit_relaxation = 1.8;
 
 // The largest strain excess (|d| - rest)/rest - maxStrain over the limited springs (model.spring_colour_spring);

@@ -24,7 +24,7 @@ TEST_CASE("a batch runs every scene and reports the failing ones and a re-run sk
   write_text(dir / "good.xml", grid_scene("", ""));
   write_text(dir / "sub" / "good.xml", grid_scene(" gravity=\"0 -1 0\"", ""));  // same stem: gets good-2
   write_text(dir / "typo.xml", grid_scene(" fsp=\"24\"", ""));
-  // Explicit Euler at 4x the stable step: the energy guard (issue 4) stops it at frame 2 (exit code 3)
+  // Explicit Euler at 4x the stable step: the energy guard (docs/stability.md) stops it at frame 2 (exit code 3)
   write_text(dir / "unstable.xml",
              "<scene><simulation timestep=\"0.002\" fps=\"24\" endFrame=\"24\" integrator=\"euler\"/>"
              "<cloth grid=\"8 8\" saveName=\"u\"><pins vertices=\"0\"/></cloth></scene>");

@@ -1,5 +1,5 @@
 // The fused force stage (systems/forces.h): external forces and the integrator's update inside the blocked
-// spring pass must give the bytes of the separate passes, at any thread count (issue 7). Same summation order
+// spring pass must give the bytes of the separate passes, at any thread count. Same summation order
 // in both, so the comparison is bitwise.
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>

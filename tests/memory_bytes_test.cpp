@@ -1,5 +1,5 @@
 // What a run holds for its whole length, counted from the arrays' sizes against a hand count of a grid sheet's
-// elements (issue 7: at most 400 bytes a particle on the 1024^2 sheet, springs and triangles included). The RSS
+// elements (docs/performance.md, "Memory and loading": at most 400 bytes a particle on the 1024^2 sheet). The RSS
 // a run reports (--stats peak_rss_bytes) is this plus the program image and the build's transient peak; this
 // test guards the part that scales with the mesh, without timing or measuring the process.
 #include <doctest/doctest.h>

@@ -1,5 +1,5 @@
 // The spring layouts agree bit for bit with each other and with the per-spring function, at any thread count
-// (issue 7: the vectorised two-phase block must not change a single result).
+// (vectorising a kernel must not change a single result: docs/performance.md, "Spring-force layouts").
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
 

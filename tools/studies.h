@@ -2,11 +2,11 @@
 // The `clothsim study` sub-commands, one file each (tools/study_<name>.cpp); each returns the exit code.
 namespace clothsim::cli {
 
-// study accuracy [--out DIR] [--quick]: work-precision and convergence of every integrator (issue 6).
+// study accuracy [--out DIR] [--quick]: work-precision and convergence of every integrator (docs/accuracy.md).
 int study_accuracy(int argc, char** argv);
-// study stability [--out DIR] [--quick]: largest stable step and stiffness against theory (issue 6).
+// study stability [--out DIR] [--quick]: largest stable step and stiffness against theory (docs/accuracy.md).
 int study_stability(int argc, char** argv);
-// study scaling SCENE.xml --threads 1,2,4 [--weak]: speed-up and parallel efficiency (issue 7 §4).
+// study scaling SCENE.xml --threads 1,2,4 [--weak]: speed-up and parallel efficiency (docs/performance.md, "Scaling").
 int study_scaling(int argc, char** argv);
 
 }  // namespace clothsim::cli

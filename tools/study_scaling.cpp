@@ -1,6 +1,6 @@
 // clothsim study scaling SCENE.xml --threads 1,2,4 [--weak]: runs the scene at each thread count under
 // tbb::global_control, checks that every frame is byte-identical across counts (strong scaling), and writes
-// CSV plus a gnuplot chart of speed-up and parallel efficiency (issue 7 §4). No thread count is built in.
+// CSV plus a gnuplot chart of speed-up and parallel efficiency (docs/performance.md). No thread count is built in.
 #include <tbb/global_control.h>
 
 #include <algorithm>
