@@ -183,7 +183,7 @@ TEST_CASE("collider vertex and edge passes give the same bytes at 1 and 2 thread
   }
 }
 
-TEST_CASE("the Kick body's first contact (shared data, skipped without it): no cloth triangle crosses the body" * doctest::test_suite("slow")) {
+TEST_CASE("the Kick body's first contact (shared data: skipped without it): no cloth triangle crosses the body" * doctest::test_suite("slow")) {
   const auto seq = test::kick_sequence();
   if (seq.empty()) {
     MESSAGE("shared data not found (../shared/data): skipped");

@@ -231,7 +231,7 @@ TEST_CASE("impact zones: the same bytes at 1, 2 and 3 threads") {
   }
 }
 
-TEST_CASE("the Kick body's fastest frames (shared data, skipped without it): no crossing from frame 52 to 66" * doctest::test_suite("slow")) {
+TEST_CASE("the Kick body's fastest frames (shared data: skipped without it): no crossing from frame 52 to 66" * doctest::test_suite("slow")) {
   const auto seq = test::kick_sequence();
   if (seq.empty()) {
     MESSAGE("shared data not found (../shared/data): skipped");

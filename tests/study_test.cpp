@@ -64,7 +64,7 @@ void check_charts(const fs::path& dir, std::initializer_list<const char*> names)
 
 }  // namespace
 
-TEST_CASE("study accuracy --quick: convergence orders, every method and step, converged references, charts" * doctest::test_suite("slow")) {
+TEST_CASE("study accuracy --quick: convergence orders of every method and step with converged references and charts" * doctest::test_suite("slow")) {
   const fs::path dir = scratch_dir("study_accuracy");
   const CliResult r = run_cli("study accuracy --quick --out " + dir.string());
   INFO(r.output);
