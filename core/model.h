@@ -161,7 +161,7 @@ struct Workspace {
     bool newton_diverged = false;  // a Newton correction left a larger backward-Euler residual than the one before
     Real strain_before = 0, strain_after = 0;  // largest spring strain (|d| - rest)/rest at the step's ends
     // A spring stretched by more than this fraction of its rest length within one step: far beyond what a
-    // converged implicit step of cloth does; the linearisation was taken too far (Baraff & Witkin 1998 §5.1).
+    // converged implicit step of cloth does; the linearisation about the step's start was taken too far.
     static constexpr Real strain_jump = 0.1;
     bool failed() const { return !converged || newton_diverged || strain_after - strain_before > strain_jump; }
   };

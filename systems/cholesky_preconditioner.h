@@ -2,8 +2,8 @@
 // The sparse LDL^T preconditioner of the implicit step's CG (preconditioner="cholesky"; core/cholesky_factor.h).
 //
 // Slivers and stiff springs leave the matrix ill-conditioned in ways that neither block-Jacobi nor aggregation
-// multigrid sees (a 0.1 mm edge among 7 mm ones is a stiffness outlier local to one particle pair, not a smooth
-// mode), while an exact factorisation does not care: with a fresh factor CG converges in one iteration. The
+// multigrid sees (a sliver's short edge is a stiffness outlier local to one particle pair, not a smooth mode),
+// while an exact factorisation does not care: with a fresh factor CG converges in one iteration. The
 // factorisation is the expensive part, so it is kept while it still preconditions well: the matrix changes
 // slowly from step to step (the spring directions turn), and CG with the factor of a nearby matrix converges in
 // a few iterations. It is refactored numerically when the step size changes or the previous solve needed more
