@@ -264,6 +264,10 @@ Workspace make_workspace(const Model& model) {
       ws.cg_z.assign(model.particle_count, Vec3::Zero());
       ws.multigrid = build_multigrid_levels(model);
     }
+    if (model.preconditioner == Preconditioner::cholesky) {
+      ws.cg_z.assign(model.particle_count, Vec3::Zero());
+      ws.cholesky = build_cholesky_factor(model);
+    }
   }
   make_collision_workspace(model, ws.collision);
   return ws;

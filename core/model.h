@@ -8,6 +8,7 @@
 
 #include "core/collision_model.h"
 #include "core/math.h"
+#include "core/cholesky_factor.h"
 #include "core/multigrid_levels.h"
 #include "core/param_field.h"
 #include "core/scene_desc.h"
@@ -145,12 +146,28 @@ struct Workspace {
   // multigrid preconditioner: its output z = B r (particle_count, or 0 without it) and its levels
   std::vector<Vec3> cg_z;
   Multigrid multigrid;
+  // sparse LDL^T preconditioner (core/cholesky_factor.h; null without it): refactored when the step changes or
+  // the last solve needed more than a few CG iterations with the factor it has
+  CholeskyFactorPtr cholesky;
+  Real cholesky_h = 0;              // the step the factor was built for; 0 = no valid factor
+  int cholesky_last_iterations = 0;  // CG iterations of the last solve it preconditioned
+  // The implicit step's health (systems/integrate_implicit.h): what it did, and whether its result can be
+  // trusted. failed() is the flag a step controller rejects the step on.
   struct SolveRecord {
     int cg_iterations = 0;         // summed over the Newton iterations of the step
     Real cg_residual = 0;          // |r|/|b| at the end of the last solve
+    int factorizations = 0;        // numeric Cholesky factorisations (preconditioner="cholesky")
+    bool converged = true;         // every linear solve reached cg_tolerance (none stopped at cg_max_iterations)
+    bool newton_diverged = false;  // a Newton correction left a larger backward-Euler residual than the one before
+    Real strain_before = 0, strain_after = 0;  // largest spring strain (|d| - rest)/rest at the step's ends
+    // A spring stretched by more than this fraction of its rest length within one step: far beyond what a
+    // converged implicit step of cloth does; the linearisation about the step's start was taken too far.
+    static constexpr Real strain_jump = 0.1;
+    bool failed() const { return !converged || newton_diverged || strain_after - strain_before > strain_jump; }
   };
   std::vector<SolveRecord> solve_log;  // one per step; capacity steps_per_frame, the caller clears it
   long long cg_iterations_total = 0;
+  long long implicit_failed_total = 0;  // implicit steps whose SolveRecord::failed()
   int strain_iterations_total = 0;     // strain-limit sweeps (systems/strain_limit.h): it needs no scratch
   int force_evaluations = 0;       // counted for the studies
   double seconds_forces = 0, seconds_integrate = 0;

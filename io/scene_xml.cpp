@@ -199,7 +199,8 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
     const std::string preconditioner = r.text("preconditioner");
     if (preconditioner == "jacobi") sim.preconditioner = Preconditioner::jacobi;
     else if (preconditioner == "multigrid") sim.preconditioner = Preconditioner::multigrid;
-    else r.bad("preconditioner", "jacobi or multigrid");
+    else if (preconditioner == "cholesky") sim.preconditioner = Preconditioner::cholesky;
+    else r.bad("preconditioner", "jacobi, multigrid or cholesky");
   }
   const std::string broad = r.text("broadPhase", "hash");
   if (broad == "hash") sim.broad_phase = BroadPhase::hash;

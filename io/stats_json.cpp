@@ -21,8 +21,10 @@ std::string format_stats(const Model& m, const RunStats& s) {
   j.field("dt", m.dt).field("steps_per_frame", m.steps_per_frame).field("steps", s.steps);
   j.field("force_evaluations", s.force_evaluations).field("threads", s.threads);
   if (m.integrator == Integrator::implicit) {
-    j.field("preconditioner", std::string_view(m.preconditioner == Preconditioner::multigrid ? "multigrid" : "jacobi"));
-    j.field("cg_iterations", s.cg_iterations);
+    j.field("preconditioner", std::string_view(m.preconditioner == Preconditioner::multigrid   ? "multigrid"
+                                                  : m.preconditioner == Preconditioner::cholesky ? "cholesky"
+                                                                                                 : "jacobi"));
+    j.field("cg_iterations", s.cg_iterations).field("implicit_failed_steps", s.implicit_failed_steps);
   }
   if (m.strain_limited) j.field("strain_limit_iterations", s.strain_limit_iterations);
   j.field("frames_written", s.frames_written).field("wall_seconds", s.wall_seconds);
@@ -47,7 +49,8 @@ std::string format_stats(const Model& m, const RunStats& s) {
       for (int it : f.cg_iterations) j.value(it);
       j.end_array().key("cg_residual").begin_array();
       for (Real r : f.cg_residual) j.value(r);
-      j.end_array();
+      j.end_array().field("failed_steps", f.implicit_failed);
+      if (m.preconditioner == Preconditioner::cholesky) j.field("factorizations", f.factorizations);
     }
     if (m.collision.enabled) {
       j.field("contacts", f.contacts).field("penetrations", f.penetrations);

@@ -18,6 +18,8 @@ struct FrameStats {
   std::vector<int> cg_iterations;  // implicit: CG iterations of each step of the frame (empty otherwise)
   std::vector<Real> cg_residual;   // implicit: final relative CG residual |r|/|b| of each step
   ZoneFigures zones;               // rigid impact zones of this frame's steps (written when the scene has them)
+  int implicit_failed = 0;         // implicit: steps of the frame whose health check failed (SolveRecord::failed)
+  int factorizations = 0;          // implicit, preconditioner="cholesky": numeric factorisations in the frame
 };
 
 struct RunStats {
@@ -31,6 +33,7 @@ struct RunStats {
   double load_cpu_seconds = 0, topology_cpu_seconds = 0;  // process CPU time (all threads) of those phases
   long long force_evaluations = 0;
   long long cg_iterations = 0;            // implicit: over the whole run
+  long long implicit_failed_steps = 0;    // implicit: steps whose health check failed, over the whole run
   long long strain_limit_iterations = 0;  // strain-limit Jacobi sweeps over the whole run
   long long peak_rss_bytes = 0;
   std::string status = "ok";  // ok | diverged

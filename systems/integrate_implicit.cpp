@@ -3,10 +3,12 @@
 #include <cmath>
 #include <limits>
 
+#include "systems/cholesky_preconditioner.h"
 #include "systems/forces.h"
 #include "systems/multigrid.h"
 #include "systems/parallel.h"
 #include "systems/reduce.h"
+#include "systems/spring_forces.h"
 #include "systems/spring_jacobian.h"
 
 namespace clothsim {
@@ -55,10 +57,15 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
 }
 
 // Preconditioned CG (Shewchuk 1994, B2) from y = 0, stopping at |r| <= tol |b|. The preconditioner z = B r is
-// block-Jacobi, applied per particle where needed (z is not stored), or the multigrid cycle into ws.cg_z.
+// block-Jacobi, applied per particle where needed (z is not stored), or the multigrid cycle or the Cholesky
+// solve into ws.cg_z.
 template <Preconditioner Kind>
 CgResult run_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h, ImplicitLayout layout) {
-  constexpr bool cycle = Kind == Preconditioner::multigrid;
+  constexpr bool cycle = Kind != Preconditioner::jacobi;
+  auto precondition = [&](std::span<const Vec3> r_in, std::span<Vec3> z_out) {
+    if constexpr (Kind == Preconditioner::multigrid) apply_multigrid(m, x, h, layout, ws, r_in, z_out);
+    else apply_cholesky(m, ws, r_in, z_out);
+  };
   const Index n = m.particle_count;
   auto &y = ws.cg_x, &r = ws.cg_r, &p = ws.cg_p, &q = ws.cg_q, &z = ws.cg_z;
   const auto& precond = ws.cg_precond;
@@ -66,7 +73,7 @@ CgResult run_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h, 
     if constexpr (cycle) return z[i];
     else return precond[i] * r[i];
   };
-  if constexpr (cycle) apply_multigrid(m, x, h, layout, ws, r, z);
+  if constexpr (cycle) precondition(r, z);
   // y0 = 0, so r0 = b; z0 = B r0; p0 = z0.
   const Sums2 start = deterministic_sum(n, particle_grain, Sums2(Sums2::Zero()), [&](Index i) {
     y[i] = Vec3::Zero();
@@ -99,7 +106,7 @@ CgResult run_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h, 
     if (!(rr > stop)) break;  // converged: the next direction (and its cycle) would go unused
     Real rz_next = next[1];
     if constexpr (cycle) {
-      apply_multigrid(m, x, h, layout, ws, r, z);
+      precondition(r, z);
       rz_next = deterministic_sum(n, particle_grain, Real(0), [&](Index i) { return r[i].dot(z[i]); });
     }
     const Real beta = rz_next / rz;
@@ -113,13 +120,24 @@ CgResult run_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h, 
 }  // namespace
 
 CgResult solve_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h, ImplicitLayout layout) {
-  return m.preconditioner == Preconditioner::multigrid ? run_cg<Preconditioner::multigrid>(m, x, ws, h, layout)
-                                                       : run_cg<Preconditioner::jacobi>(m, x, ws, h, layout);
+  switch (m.preconditioner) {
+    case Preconditioner::multigrid: return run_cg<Preconditioner::multigrid>(m, x, ws, h, layout);
+    case Preconditioner::cholesky: {
+      const CgResult res = run_cg<Preconditioner::cholesky>(m, x, ws, h, layout);
+      ws.cholesky_last_iterations = res.iterations;
+      return res;
+    }
+    case Preconditioner::jacobi: break;
+  }
+  return run_cg<Preconditioner::jacobi>(m, x, ws, h, layout);
 }
 
-void integrate_implicit(const Model& m, const State& in, State& out, Workspace& ws, Real h, ImplicitLayout layout) {
+Workspace::SolveRecord integrate_implicit(const Model& m, const State& in, State& out, Workspace& ws, Real h,
+                                          ImplicitLayout layout) {
   const Index n = m.particle_count;
   Workspace::SolveRecord record;
+  record.strain_before = max_spring_strain(m, in.x);
+  Real last_residual = 0;  // |b| of the previous Newton correction's right-hand side (the backward-Euler residual)
   for (int k = 0; k < m.newton_iterations; ++k) {
     const bool first = k == 0;
     // Baraff & Witkin linearise about (x0, v0); each Newton correction about the latest iterate (out.x, out.v).
@@ -129,18 +147,29 @@ void integrate_implicit(const Model& m, const State& in, State& out, Workspace& 
     build_spring_blocks(m, x, h, ws);
     if (first) parallel_over(n, particle_grain, [&](Index i) { ws.dv[i] = Vec3::Zero(); });
     build_particle_terms(m, x, v, h, first, ws);
+    if (!first) {
+      const Real residual = std::sqrt(
+          deterministic_sum(n, particle_grain, Real(0), [&](Index i) { return ws.cg_r[i].squaredNorm(); }));
+      if (k >= 2 && residual > last_residual) record.newton_diverged = true;
+      last_residual = residual;
+    }
     if (m.preconditioner == Preconditioner::multigrid) build_multigrid_operators(m, h, ws);
+    if (m.preconditioner == Preconditioner::cholesky) record.factorizations += refresh_cholesky(m, h, ws);
     const CgResult cg = solve_cg(m, x, ws, h, layout);
     record.cg_iterations += cg.iterations;
     record.cg_residual = cg.residual;
+    if (!(cg.residual <= m.cg_tolerance)) record.converged = false;
     parallel_over(n, particle_grain, [&](Index i) {
       ws.dv[i] += ws.cg_x[i];
       out.v[i] = in.v[i] + ws.dv[i];
       out.x[i] = in.x[i] + h * out.v[i];
     });
   }
+  record.strain_after = max_spring_strain(m, out.x);
   ws.cg_iterations_total += record.cg_iterations;
+  if (record.failed()) ++ws.implicit_failed_total;
   if (ws.solve_log.size() < ws.solve_log.capacity()) ws.solve_log.push_back(record);
+  return record;
 }
 
 }  // namespace clothsim

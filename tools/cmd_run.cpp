@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <memory>
 #include <set>
+#include <string>
 
 #include "core/error.h"
 #include "io/atomic_file.h"
@@ -80,6 +81,24 @@ void add_collision_stats(const Model& model, const State& state, Workspace& ws, 
   }
 }
 
+// Why an implicit step failed its health check (Workspace::SolveRecord::failed), in words, with the remedy.
+std::string implicit_failure(const Model& model, const Workspace::SolveRecord& r, int frame) {
+  char text[400];
+  if (!r.converged)
+    std::snprintf(text, sizeof text, "frame %d: CG stopped at relative residual %.3g above cgTolerance %.3g "
+                  "(cgMaxIterations %d): raise cgMaxIterations or use preconditioner=\"cholesky\"", frame,
+                  r.cg_residual, model.cg_tolerance, model.cg_max_iterations);
+  else if (r.newton_diverged)
+    std::snprintf(text, sizeof text, "frame %d: a Newton correction raised the backward-Euler residual: take a "
+                  "smaller timestep", frame);
+  else
+    std::snprintf(text, sizeof text, "frame %d: the largest spring strain went from %.3g to %.3g in one step of "
+                  "%.3g s, past the %.2g a step that a linearised implicit step can be trusted with: take a "
+                  "smaller timestep or more newtonIterations", frame, r.strain_before, r.strain_after, model.dt,
+                  Workspace::SolveRecord::strain_jump);
+  return text;
+}
+
 }  // namespace
 
 int cmd_run(int argc, char** argv) {
@@ -133,6 +152,7 @@ int cmd_run(int argc, char** argv) {
   stats.topology_cpu_seconds = loaded.topology_cpu_seconds;
   Progress progress(frames.last - frames.first + 1, args.has("--quiet"));
   int status = exit_ok;
+  std::string first_failure;  // the first implicit step whose health check failed, in words
 
   for (int frame = first_frame; frame <= frames.last; ++frame) {
     ws.solve_log.clear();
@@ -160,6 +180,9 @@ int cmd_run(int argc, char** argv) {
     for (const Workspace::SolveRecord& r : ws.solve_log) {
       stats.frames.back().cg_iterations.push_back(r.cg_iterations);
       stats.frames.back().cg_residual.push_back(r.cg_residual);
+      stats.frames.back().implicit_failed += r.failed() ? 1 : 0;
+      stats.frames.back().factorizations += r.factorizations;
+      if (r.failed() && first_failure.empty()) first_failure = implicit_failure(model, r, frame);
     }
     if (frame < frames.first) continue;
     const auto w0 = std::chrono::steady_clock::now();
@@ -174,10 +197,14 @@ int cmd_run(int argc, char** argv) {
     checkpoints.frame_written(frame, frames.last, state);
   }
   progress.finish();
+  if (ws.implicit_failed_total > 0)
+    std::fprintf(stderr, "clothsim: warning: %lld of %lld implicit steps failed their health check; the first: %s\n",
+                 ws.implicit_failed_total, static_cast<long long>(state.step), first_failure.c_str());
 
   stats.steps = state.step;
   stats.force_evaluations = ws.force_evaluations;
   stats.cg_iterations = ws.cg_iterations_total;
+  stats.implicit_failed_steps = ws.implicit_failed_total;
   stats.strain_limit_iterations = ws.strain_iterations_total;
   stats.forces_seconds = ws.seconds_forces;
   stats.integrate_seconds = ws.seconds_integrate;

@@ -1,0 +1,38 @@
+#pragma once
+// The sparse LDL^T factorisation of the implicit step's matrix (preconditioner="cholesky"): the matrix's
+// pattern is fixed for the run (one 3x3 block per particle and per spring), so the fill-reducing ordering and
+// the symbolic factorisation are computed once when the workspace is made, and each refactorisation is numeric
+// only (Davis 2006, "Direct Methods for Sparse Linear Systems", ch. 4 and 7). The ordering is approximate
+// minimum degree (Amestoy, Davis & Duff 1996) on the particle graph, applied to whole 3x3 blocks, so a block's
+// three rows stay adjacent and each spring's block lands in one contiguous run of every column it touches.
+#include <memory>
+#include <vector>
+
+#include "core/math.h"
+
+namespace clothsim {
+
+struct Model;
+struct CholeskyFactor;  // Eigen's sparse matrix and SimplicialLDLT (core/cholesky_factor.cpp)
+
+struct CholeskyFactorDelete {
+  void operator()(CholeskyFactor* f) const;
+};
+using CholeskyFactorPtr = std::unique_ptr<CholeskyFactor, CholeskyFactorDelete>;
+
+// The upper triangle's pattern (column-major, rows ascending), the ordering and the symbolic factorisation.
+CholeskyFactorPtr build_cholesky_factor(const Model& model);
+
+// The matrix's values, set before factorising: zeroed, then blocks added (values in the original particle order).
+void cholesky_clear(CholeskyFactor& f);
+void cholesky_add_diagonal(CholeskyFactor& f, Index particle, const Sym3& block);
+// Adds -block at (a, b) and (b, a): a spring's coupling (A p)_a = ... - B_s p_b.
+void cholesky_add_coupling(CholeskyFactor& f, Index spring, const Sym3& block, Index a, Index b);
+// Numeric factorisation of the values set; false when the matrix is not positive definite.
+bool cholesky_factorize(CholeskyFactor& f);
+// z = A^-1 r with the last factorisation (particle vectors in the original order).
+void cholesky_solve(CholeskyFactor& f, const Vec3* r, Vec3* z);
+// Bytes held: pattern, values, factor and the permuted vectors.
+std::size_t cholesky_bytes(const CholeskyFactor& f);
+
+}  // namespace clothsim

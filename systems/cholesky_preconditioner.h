@@ -1,0 +1,28 @@
+#pragma once
+// The sparse LDL^T preconditioner of the implicit step's CG (preconditioner="cholesky"; core/cholesky_factor.h).
+//
+// Slivers and stiff springs leave the matrix ill-conditioned in ways that neither block-Jacobi nor aggregation
+// multigrid sees (a sliver's short edge is a stiffness outlier local to one particle pair, not a smooth mode),
+// while an exact factorisation does not care: with a fresh factor CG converges in one iteration. The
+// factorisation is the expensive part, so it is kept while it still preconditions well: the matrix changes
+// slowly from step to step (the spring directions turn), and CG with the factor of a nearby matrix converges in
+// a few iterations. It is refactored numerically when the step size changes or the previous solve needed more
+// than cholesky_refactor_iterations. Single-threaded, so its result is the same at any thread count.
+#include <span>
+
+#include "core/model.h"
+
+namespace clothsim {
+
+// CG iterations above which the next solve refactors the matrix first.
+inline constexpr int cholesky_refactor_iterations = 8;
+
+// Refactors when due; ws.spring_block and ws.cg_precond (the inverse diagonal blocks) must be current. Returns
+// the number of numeric factorisations done (0 or 1). A failed factorisation (the matrix not positive definite
+// in floating point) leaves no factor: the solve then falls back to block-Jacobi.
+int refresh_cholesky(const Model& model, Real h, Workspace& ws);
+
+// z = B r: the factor's solve, or block-Jacobi while there is no valid factor.
+void apply_cholesky(const Model& model, Workspace& ws, std::span<const Vec3> r, std::span<Vec3> z);
+
+}  // namespace clothsim

@@ -1,0 +1,119 @@
+// The implicit step's health record (Workspace::SolveRecord) and the sparse Cholesky preconditioner.
+#include <doctest/doctest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "core/memory_bytes.h"
+#include "scene_fixtures.h"
+#include "spring_fixtures.h"
+#include "systems/integrate_implicit.h"
+#include "systems/step.h"
+
+using namespace clothsim;
+using namespace clothsim::test;
+
+namespace {
+
+// A horizontal spring at rest, pinned at the origin, its free end under gravity: the linearisation about rest has
+// no transverse stiffness (k (1 - rest/l) = 0), so one linearised step drops the end by g h^2 whatever k is, and
+// leaves the spring stretched by sqrt(1 + (g h^2 / rest)^2) - 1.
+Workspace::SolveRecord horizontal_spring_step(Real h, Real& strain) {
+  BuiltScene s = two_particle_spring(1e6, 0, 0.01, 0.1, 0, Integrator::implicit);
+  s.model.gravity = Vec3(0, -9.81, 0);
+  Workspace ws = make_workspace(s.model);
+  State out = s.state;
+  const Workspace::SolveRecord r = integrate_implicit(s.model, s.state, out, ws, h);
+  strain = std::sqrt(1 + std::pow(9.81 * h * h / 0.1, 2)) - 1;
+  return r;
+}
+
+BuiltScene stiff_sheet(Preconditioner pc) {
+  GridSpec g;
+  g.nx = g.ny = 8;
+  g.stiffness = 1e5;
+  g.damping = 0.1;
+  g.pins = {0, 7};
+  g.integrator = Integrator::implicit;
+  BuiltScene s = grid_sheet(g);
+  s.model.preconditioner = pc;
+  s.model.cg_tolerance = 1e-6;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("a linearised step that stretches a spring by more than strain_jump is flagged, with the strain it made") {
+  Real expected = 0;
+  const Workspace::SolveRecord big = horizontal_spring_step(0.1, expected);
+  CHECK(big.strain_before == doctest::Approx(0).epsilon(1e-12));
+  CHECK(big.strain_after == doctest::Approx(expected).epsilon(1e-9));  // 0.4007
+  CHECK(big.converged);
+  CHECK(big.failed());
+  const Workspace::SolveRecord small = horizontal_spring_step(0.01, expected);
+  CHECK(small.strain_after == doctest::Approx(expected).epsilon(1e-6));  // 4.8e-5
+  CHECK_FALSE(small.failed());
+}
+
+TEST_CASE("a CG solve stopped at its cap is reported as not converged") {
+  BuiltScene s = stiff_sheet(Preconditioner::jacobi);
+  s.model.cg_max_iterations = 3;
+  Workspace ws = make_workspace(s.model);
+  State out = s.state;
+  const Workspace::SolveRecord r = integrate_implicit(s.model, s.state, out, ws, 1.0 / 120);
+  CHECK(r.cg_iterations == 3);
+  CHECK(r.cg_residual > s.model.cg_tolerance);
+  CHECK_FALSE(r.converged);
+  CHECK(r.failed());
+  CHECK(ws.implicit_failed_total == 1);
+  s.model.cg_max_iterations = 1000;
+  const Workspace::SolveRecord ok = integrate_implicit(s.model, s.state, out, ws, 1.0 / 120);
+  CHECK(ok.converged);
+  CHECK_FALSE(ok.failed());
+}
+
+TEST_CASE("the Cholesky preconditioner solves a step in one CG iteration and keeps its factor while it helps") {
+  BuiltScene s = stiff_sheet(Preconditioner::cholesky);
+  Workspace ws = make_workspace(s.model);
+  REQUIRE(ws.cholesky);
+  const Real h = 1.0 / 120;
+  State out = s.state;
+  // A fresh factor of the step's own matrix: CG's first iterate is the solution up to round-off.
+  Workspace::SolveRecord r = integrate_implicit(s.model, s.state, out, ws, h);
+  CHECK(r.factorizations == 1);
+  CHECK(r.cg_iterations == 1);
+  CHECK(r.cg_residual < 1e-10);
+  // The next steps reuse it: a few iterations each, no factorisation until a solve needs more than
+  // cholesky_refactor_iterations.
+  int factorizations = 0, iterations = 0;
+  for (int k = 0; k < 10; ++k) {
+    std::swap(s.state, out);
+    r = integrate_implicit(s.model, s.state, out, ws, h);
+    factorizations += r.factorizations;
+    iterations += r.cg_iterations;
+    CHECK(r.converged);
+  }
+  CHECK(factorizations < 10);
+  CHECK(iterations >= 10);
+  MESSAGE(factorizations << " factorisations and " << iterations << " CG iterations in 10 steps");
+  // A new step size refactors.
+  r = integrate_implicit(s.model, out, s.state, ws, h / 2);
+  CHECK(r.factorizations == 1);
+  CHECK(r.cg_iterations == 1);
+  CHECK(workspace_bytes(ws) > 0);
+}
+
+TEST_CASE("the Cholesky-preconditioned implicit run is byte-identical at 1 and 2 threads") {
+  State runs[2];
+  for (int t = 1; t <= 2; ++t) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
+    BuiltScene s = stiff_sheet(Preconditioner::cholesky);
+    Workspace ws = make_workspace(s.model);
+    run_steps(s.model, s.state, ws, 1.0 / 60, 12);
+    runs[t - 1] = s.state;
+  }
+  REQUIRE(runs[0].x.size() == runs[1].x.size());
+  CHECK(std::memcmp(runs[0].x.data(), runs[1].x.data(), runs[0].x.size() * sizeof(Vec3)) == 0);
+  CHECK(std::memcmp(runs[0].v.data(), runs[1].v.data(), runs[0].v.size() * sizeof(Vec3)) == 0);
+}
