@@ -31,7 +31,8 @@ inline double random_unit(std::uint64_t seed, std::int64_t step, std::int64_t pa
 
 // Acceleration at position x and time t (s since the start frame): the gust field above, per axis over [lo, hi],
 // lo = -amplitude when the negative sign is allowed (else 0), hi = +amplitude when the positive sign is allowed
-// (else 0). A node's hash chains seed, time, i, j, k, so the 16 nodes around a point cost 30 hashes.
+// (else 0). One hash per lattice node (of seed and time, then of the node's cell) gives all three axes, 21 bits
+// each: 18 hashes for the 16 nodes around a point, so the field costs little more than a draw per axis.
 inline Vec3 random_acceleration(const RandomForceDesc& r, Real t, const Vec3& x) {
   const Real ts = t / r.period;
   const Real tf = std::floor(ts);
@@ -50,17 +51,16 @@ inline Vec3 random_acceleration(const RandomForceDesc& r, Real t, const Vec3& x)
   const std::uint64_t hs = mix64(r.seed);
   for (int a = 0; a < 2; ++a) {
     const std::uint64_t ha = mix64(hs ^ std::uint64_t(n + a));
-    for (int i = 0; i < 2; ++i) {
-      const std::uint64_t hi = mix64(ha ^ std::uint64_t(c[0] + i));
-      for (int j = 0; j < 2; ++j) {
-        const std::uint64_t hj = mix64(hi ^ std::uint64_t(c[1] + j));
-        for (int k = 0; k < 2; ++k) {
-          const std::uint64_t hk = mix64(hj ^ std::uint64_t(c[2] + k));
-          const Real weight =
-              (a ? wt : 1 - wt) * (i ? w[0] : 1 - w[0]) * (j ? w[1] : 1 - w[1]) * (k ? w[2] : 1 - w[2]);
-          for (int axis = 0; axis < 3; ++axis) value[axis] += weight * unit_from_bits(mix64(hk + axis));
-        }
-      }
+    for (int corner = 0; corner < 8; ++corner) {
+      const int i = corner & 1, j = (corner >> 1) & 1, k = corner >> 2;
+      const std::uint64_t cell = std::uint64_t(c[0] + i) * 0x9e3779b97f4a7c15ULL ^
+                                 std::uint64_t(c[1] + j) * 0xc2b2ae3d27d4eb4fULL ^
+                                 std::uint64_t(c[2] + k) * 0x165667b19e3779f9ULL;
+      const std::uint64_t h = mix64(ha ^ cell);
+      const Real weight =
+          (a ? wt : 1 - wt) * (i ? w[0] : 1 - w[0]) * (j ? w[1] : 1 - w[1]) * (k ? w[2] : 1 - w[2]);
+      for (int axis = 0; axis < 3; ++axis)
+        value[axis] += weight * (Real((h >> (21 * axis)) & 0x1fffff) * 0x1.0p-21);  // [0, 1) in 2^-21 steps
     }
   }
   Vec3 result;
