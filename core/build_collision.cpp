@@ -195,6 +195,7 @@ void make_collision_workspace(const Model& m, CollisionScratch& s) {
   s.acc_dv.assign(3 * std::size_t(m.particle_count), 0);
   s.acc_dx.assign(3 * std::size_t(m.particle_count), 0);
   s.acc_count.assign(m.particle_count, 0);
+  s.deep_collider.assign(m.particle_count, -1);
   if (c.impact_zones()) {
     const std::size_t nodes = std::size_t(m.particle_count) + c.mesh_vertex_count;
     s.zones.parent.resize(nodes);

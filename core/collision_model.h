@@ -139,6 +139,10 @@ struct CollisionScratch {
   std::vector<std::int32_t> acc_count;       // (particle_count)
   std::int64_t contacts_found = 0;           // contacts of the first pass, summed over steps
   ZoneScratch zones;
+  // Cloth particles found inside a closed collider mesh: that collider, or -1 (particle_count); filled by the
+  // first step this workspace takes (systems/push_out.h).
+  std::vector<std::int32_t> deep_collider;
+  bool deep_scanned = false;
 };
 
 }  // namespace clothsim

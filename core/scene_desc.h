@@ -38,6 +38,8 @@ struct SimulationDesc {
 
 struct RandomForceDesc {
   Real amplitude = 0;          // m/s^2, largest random acceleration per axis
+  Real period = 0.5;           // s, time between the gust field's lattice nodes (systems/random_force.h)
+  Real cell_size = 0.5;        // m, space between the gust field's lattice nodes
   std::uint64_t seed = 1;
   std::array<bool, 6> allow{true, true, true, true, true, true};  // negX posX negY posY negZ posZ
 };
@@ -104,7 +106,7 @@ struct ColliderDesc {
   Real radius = 1;              // sphere radius, m
   Vec3 point{0, 0, 0};          // a point of the plane, m
   Vec3 normal{0, 1, 0};         // plane normal, pointing to the free side
-  Real friction = 0.3;          // Coulomb coefficient; a contact uses the mean with the cloth's
+  Real friction = 0.3;          // Coulomb coefficient; a contact uses the geometric mean with the cloth's
   TransformDesc transform;
 };
 

@@ -224,8 +224,11 @@ void read_forces(const std::string& file, const std::string& text, pugi::xml_nod
       f.wind_velocity = r.vec3("velocity", f.wind_velocity);
       f.wind_strength = r.non_negative("strength", 1.0, "kg/(m^2 s)");
     } else if (name == "random") {
-      ElementReader r(file, text, c, {"amplitude", "seed", "negX", "posX", "negY", "posY", "negZ", "posZ"});
+      ElementReader r(file, text, c,
+                      {"amplitude", "seed", "negX", "posX", "negY", "posY", "negZ", "posZ", "period", "cellSize"});
       f.random.amplitude = r.non_negative("amplitude", 0, "m/s^2");
+      f.random.period = r.positive("period", f.random.period, "s");
+      f.random.cell_size = r.positive("cellSize", f.random.cell_size, "m");
       const std::string seed = r.text("seed", "1");
       std::uint64_t s = 0;
       auto [p, ec] = std::from_chars(seed.data(), seed.data() + seed.size(), s);

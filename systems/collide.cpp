@@ -13,6 +13,7 @@
 #include "systems/impact_zones.h"
 #include "systems/parallel.h"
 #include "systems/proximity.h"
+#include "systems/push_out.h"
 #include "systems/spatial_hash.h"
 
 namespace clothsim {
@@ -82,6 +83,22 @@ Real collider_vertex_side(const Vec3& nt, const Vec3& nv, Real start) {
 
 Real triangle_thickness(const Model& m, const Index* p) {
   return std::max({m.particle_thickness[p[0]], m.particle_thickness[p[1]], m.particle_thickness[p[2]]});
+}
+
+// Edge-edge contacts: each cloth edge's thickness interpolated between its ends at the closest point (s on
+// p[0]p[1], t on p[2]p[3]; a collider edge, `fixed`, has none), the larger of the two sides, so the contact
+// does not depend on which edge is numbered first. edge_pair_reach bounds it for the detection tests.
+Real edge_pair_reach(const Model& m, const Index* p, bool fixed) {
+  const Real own = std::max(m.particle_thickness[p[0]], m.particle_thickness[p[1]]);
+  return fixed ? own : std::max({own, m.particle_thickness[p[2]], m.particle_thickness[p[3]]});
+}
+Real edge_thickness_at(const Model& m, Index a, Index b, Real s) {
+  const Real ha = m.particle_thickness[a];
+  return ha + s * (m.particle_thickness[b] - ha);  // exactly ha when both ends agree
+}
+Real edge_pair_thickness(const Model& m, const Index* p, bool fixed, Real s, Real t) {
+  const Real own = edge_thickness_at(m, p[0], p[1], s);
+  return fixed ? own : std::max(own, edge_thickness_at(m, p[2], p[3], t));
 }
 
 // Every collider-mesh vertex whose swept box may come within the thickness of cloth triangle t's swept box,
@@ -204,7 +221,6 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
   parallel_over(Index(c.edge_a.size()), contact_grain, [&](Index e) {
     if (!meshes && !c.edge_contact[e]) return;
     const Index a = c.edge_a[e], b = c.edge_b[e];
-    const Real h = m.particle_thickness[a];
     Aabb q = swept_box(in.x[a], out.x[a]);
     grow(q, in.x[b]);
     grow(q, out.x[b]);
@@ -218,9 +234,11 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
           const Index ga = c.mesh_edge_a[g], gb = c.mesh_edge_b[g];
           const Vec3* const x0[4] = {&in.x[a], &in.x[b], &s.collider_x0[ga], &s.collider_x0[gb]};
           const Vec3* const x1[4] = {&out.x[a], &out.x[b], &s.collider_x1[ga], &s.collider_x1[gb]};
+          const Index p[4] = {a, b, ga, gb};
           EdgeProximity px;
           Real d;
-          if (!edge_pair_proximity(x0, x1, h, px, d)) continue;
+          if (!edge_pair_proximity(x0, x1, edge_pair_reach(m, p, true), px, d)) continue;
+          if (px.d >= edge_pair_thickness(m, p, true, px.s, px.t)) continue;
           collider_edge_side(collider_edge_normal(c, s, g), px, d);
           on_collider_edge(e, g, px, d);
         }
@@ -235,24 +253,30 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
         if (!c.cloths_collide(c.particle_cloth[a], c.particle_cloth[fa])) continue;
         const Vec3* const x0[4] = {&in.x[a], &in.x[b], &in.x[fa], &in.x[fb]};
         const Vec3* const x1[4] = {&out.x[a], &out.x[b], &out.x[fa], &out.x[fb]};
+        const Index p[4] = {a, b, fa, fb};
         EdgeProximity px;
         Real d;
-        if (edge_pair_proximity(x0, x1, h, px, d)) on_edge(e, f, px, d);
+        if (edge_pair_proximity(x0, x1, edge_pair_reach(m, p, false), px, d) &&
+            px.d < edge_pair_thickness(m, p, false, px.s, px.t))
+          on_edge(e, f, px, d);
       }
     });
   });
 }
 
-// Friction and restitution of a contact: the mean of the two sides' friction (Coulomb), the cloth's restitution.
+// Friction of a contact: the geometric mean of the two sides' Coulomb coefficients (Box2D's rule), so a side
+// with friction 0 makes the contact frictionless and two equal sides keep their value (docs/scene-format.md,
+// "Friction"). Restitution is the cloth's.
+Real combine_friction(Real a, Real b) { return std::sqrt(a * b); }
 Real collider_friction(const Model& m, Index i, Index collider) {
-  return 0.5 * (m.cloths[m.collision.particle_cloth[i]].friction + m.collision.colliders[collider].friction);
+  return combine_friction(m.cloths[m.collision.particle_cloth[i]].friction, m.collision.colliders[collider].friction);
 }
 // Cloth particles a and b on the two sides of a cloth-cloth contact.
 Real cloth_pair_friction(const Model& m, Index a, Index b) {
   const CollisionModel& c = m.collision;
-  return 0.5 * (m.cloths[c.particle_cloth[a]].friction + m.cloths[c.particle_cloth[b]].friction);
+  return combine_friction(m.cloths[c.particle_cloth[a]].friction, m.cloths[c.particle_cloth[b]].friction);
 }
-Real mean_friction(const Model& m, Index i, Index prim) {
+Real contact_friction(const Model& m, Index i, Index prim) {
   const CollisionModel& c = m.collision;
   if (prim >= m.tri_count) return collider_friction(m, i, c.mesh_tri_collider[prim - m.tri_count]);
   return cloth_pair_friction(m, i, m.tri_index[3 * prim]);
@@ -306,7 +330,7 @@ void collide_analytic(const Model& m, State& out, CollisionScratch& s, Real h) {
       }
       if (d >= thick) continue;
       const Vec3 dv =
-          collider_velocity_change(out.v[i], Vec3::Zero(), n, cloth.restitution, 0.5 * (cloth.friction + ci.friction));
+          collider_velocity_change(out.v[i], Vec3::Zero(), n, cloth.restitution, combine_friction(cloth.friction, ci.friction));
       accumulate_contact(s, i, dv, collider_position_change(dv, n, d, thick, h));
     }
   });
@@ -318,7 +342,7 @@ void collide_analytic(const Model& m, State& out, CollisionScratch& s, Real h) {
 void respond_vertex_triangle(const Model& m, const State& out, CollisionScratch& s, Index i, Index prim,
                              const PrimCorners& t, const Real* w, const Vec3& n, Real d, Real h, bool crossed) {
   const Real thick = m.particle_thickness[i];
-  const Real mu = mean_friction(m, i, prim);
+  const Real mu = contact_friction(m, i, prim);
   if (!t.cloth) {
     Vec3 v_col = Vec3::Zero();
     for (int k = 0; k < 3; ++k) v_col += w[k] * (t.x1[k] - t.x0[k]) / h;
@@ -388,13 +412,12 @@ void for_each_edge_crossing(const Model& m, const State& in, const State& out, c
   const CollisionModel& c = m.collision;
   parallel_over(Index(c.edge_a.size()), contact_grain, [&](Index e) {
     const Index a = c.edge_a[e], b = c.edge_b[e];
-    const Real tol = m.particle_thickness[a];
     Aabb q = swept_box(in.x[a], out.x[a]);
     grow(q, in.x[b]);
     grow(q, out.x[b]);
     Aabb qi = q;
-    qi.lo.array() -= tol;
-    qi.hi.array() += tol;
+    qi.lo.array() -= c.max_thickness;
+    qi.hi.array() += c.max_thickness;
     const Index cloth = c.particle_cloth[a];
     for_each_candidate(m, s, mode, q, [&](Index slot) {
       const Index prim = c.prim[slot];
@@ -430,7 +453,8 @@ void for_each_edge_crossing(const Model& m, const State& in, const State& out, c
         EdgeProximity px;
         Vec3 n;
         Real d;
-        if (!edge_edge_crossing(x0, x1, tol, px, n, d)) continue;
+        if (!edge_edge_crossing(x0, x1, edge_pair_reach(m, p, fixed), px, n, d)) continue;
+        if (d >= edge_pair_thickness(m, p, fixed, px.s, px.t)) continue;
         if (fixed) {
           const Vec3 nv = collider_edge_normal(c, s, c.mesh_tri_edge[3 * (prim - m.tri_count) + k]);
           if (n.dot(nv) < -0.2 * nv.norm()) continue;
@@ -526,8 +550,8 @@ std::int64_t collide_continuous(const Model& m, const State& in, State& out, Col
         Vec3 v_fixed = Vec3::Zero();
         if (fixed) v_fixed = ((1 - px.t) * (x1[2] - x0[2]) + px.t * (x1[3] - x0[3])) / h;
         Vec3 dv[4], dx[4];
-        if (!inelastic_separation(p, wt, count, m, out.v, v_fixed, n, d, m.particle_thickness[p[0]], mu, h, dv, dx))
-          return;
+        const Real thick = edge_pair_thickness(m, p, fixed, px.s, px.t);
+        if (!inelastic_separation(p, wt, count, m, out.v, v_fixed, n, d, thick, mu, h, dv, dx)) return;
         for (int k = 0; k < count; ++k) accumulate_contact(s, p[k], dv[k], dx[k]);
       });
   return apply_accumulated(m, out, s);
@@ -646,6 +670,7 @@ void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h)
   const auto t0 = std::chrono::steady_clock::now();
   CollisionScratch& s = ws.collision;
   place_colliders(m, in.step, h, s);
+  push_out_deep_vertices(m, in, out, s, h);
   const bool broad = !c.prim.empty();
   if (broad) build_broad_phase(m, in, out, s);
   const BroadMode mode = c.broad_phase == BroadPhase::bvh ? BroadMode::bvh : BroadMode::hash;
@@ -665,7 +690,8 @@ void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h)
             const Real wt[4] = {1 - px.s, px.s, -(1 - px.t), -px.t};
             const Real mu = cloth_pair_friction(m, p[0], p[2]);
             Vec3 dv[4];
-            if (!cloth_impulse(p, wt, 4, m, out.v, px.n, d, m.particle_thickness[p[0]], mu, h, dv)) return;
+            const Real thick = edge_pair_thickness(m, p, false, px.s, px.t);
+            if (!cloth_impulse(p, wt, 4, m, out.v, px.n, d, thick, mu, h, dv)) return;
             for (int k = 0; k < 4; ++k) accumulate_contact(s, p[k], dv[k], h * dv[k]);
           },
           [&](Index t, Index v, const TriangleProximity& px, const Vec3& n, Real d) {
@@ -681,7 +707,8 @@ void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h)
             const Vec3 c0 = (1 - px.t) * s.collider_x0[ga] + px.t * s.collider_x0[gb];
             const Vec3 c1 = (1 - px.t) * s.collider_x1[ga] + px.t * s.collider_x1[gb];
             const Real mu = collider_friction(m, p[0], c.mesh_tri_collider[c.mesh_edge_first_tri[g]]);
-            respond_collider_point(m, out, s, p, w, 2, c0, c1, px.n, d, m.particle_thickness[p[0]], mu, h);
+            const Real thick = edge_thickness_at(m, p[0], p[1], px.s);
+            respond_collider_point(m, out, s, p, w, 2, c0, c1, px.n, d, thick, mu, h);
           });
     }
     const std::int64_t found = apply_accumulated(m, out, s);

@@ -6,9 +6,8 @@ namespace clothsim {
 
 void apply_external_forces(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::int64_t step,
                            std::span<const Vec3> normal, std::span<Vec3> f) {
-  (void)x;
   parallel_over(m.particle_count, particle_grain,
-                [&](Index i) { f[i] = external_acceleration(m, i, f[i], v[i], step, normal); });
+                [&](Index i) { f[i] = external_acceleration(m, i, f[i], x[i], v[i], step, normal); });
 }
 
 }  // namespace clothsim

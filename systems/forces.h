@@ -32,7 +32,7 @@ void eval_forces_then(const Model& m, std::span<const Vec3> x, std::span<const V
   if (m.needs_normals()) eval_normals(m, x, ws.normal);
   std::span<Vec3> f = ws.f;
   eval_springs_blocked_then(m, x, v, f, [&](Index i) {
-    f[i] = external_acceleration(m, i, f[i], v[i], step, ws.normal);
+    f[i] = external_acceleration(m, i, f[i], x[i], v[i], step, ws.normal);
     update(i);
   });
   ++ws.force_evaluations;

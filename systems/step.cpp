@@ -30,8 +30,10 @@ void step(const Model& model, const State& in, State& out, Workspace& ws, Real h
       integrate_implicit(model, in, out, ws, h);
       break;
   }
-  collide(model, in, out, ws, h);
+  // Collisions end the step (Bridson et al. 2002 §7): the strain limit's projections move particles without
+  // looking at contacts, so run after collisions they could drag cloth back into a body or another layer.
   if (model.strain_limited) apply_strain_limit(model, out, ws, h);
+  collide(model, in, out, ws, h);
   out.time = in.time + h;
   out.step = in.step + 1;
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -1,6 +1,6 @@
 #pragma once
 // One time step, built from named stages in the style of MuJoCo's mj_step:
-//   eval_forces -> integrate (explicit Euler | symplectic Euler | RK4 | backward Euler) -> collide -> strain limit
+//   eval_forces -> integrate (explicit Euler | symplectic Euler | RK4 | backward Euler) -> strain limit -> collide
 #include "core/model.h"
 
 namespace clothsim {

@@ -151,3 +151,24 @@ TEST_CASE("validate checks a scene without simulating, --help works, unknown opt
   CHECK(bad.exit_code == 2);
   CHECK(bad.output.find("unknown option '--thread'") != std::string::npos);
 }
+
+TEST_CASE("validate warns on undamped explicit Euler and on colliders with collisionIterations 0") {
+  const fs::path dir = scratch_dir("validate_warnings");
+  auto validate = [&](const std::string& sim, const std::string& damping, bool collider) {
+    write_text(dir / "s.xml", "<scene><simulation timestep=\"0.0001\" " + sim + "/>" +
+                                  (collider ? "<plane name=\"ground\"/>" : "") +
+                                  "<cloth name=\"c\" grid=\"4 4\" translate=\"0 1 0\"><damping value=\"" + damping +
+                                  "\"/></cloth></scene>");
+    const CliResult r = run_cli("validate " + (dir / "s.xml").string());
+    CHECK(r.exit_code == 0);
+    return r.output;
+  };
+  const std::string euler = "integrator=\"euler\" without damping";
+  const std::string off = "collisionIterations=\"0\" turns collisions off: the 1 collider will be ignored";
+  CHECK(validate("integrator=\"euler\"", "0", false).find(euler) != std::string::npos);
+  CHECK(validate("integrator=\"euler\"", "0.1", false).find(euler) == std::string::npos);
+  CHECK(validate("integrator=\"symplectic\"", "0", false).find(euler) == std::string::npos);
+  CHECK(validate("collisionIterations=\"0\"", "0.1", true).find(off) != std::string::npos);
+  CHECK(validate("collisionIterations=\"0\"", "0.1", false).find(off) == std::string::npos);
+  CHECK(validate("collisionIterations=\"1\"", "0.1", true).find(off) == std::string::npos);
+}

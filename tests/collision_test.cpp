@@ -82,8 +82,9 @@ TEST_CASE("drape over a sphere: no cloth vertex inside the sphere at any frame")
   // The sheet did drape: its corners fell well below the top of the sphere.
 }
 
-// A 4x4 cloth resting on a plane tilted by theta about z; mu = 0.5 for cloth and plane (mean 0.5).
-Real incline_travel(Real tan_theta) {
+// A 4x4 cloth resting on a plane tilted by theta about z, for 2 s; the cloth's and the plane's friction (0.5 and
+// 0.5 combine to 0.5).
+Real incline_travel(Real tan_theta, Real mu_cloth = 0.5, Real mu_plane = 0.5) {
   const Real theta = std::atan(tan_theta), deg = theta * 180 / M_PI;
   const Vec3 n(-std::sin(theta), std::cos(theta), 0);
   const Real h = 0.005;
@@ -91,10 +92,10 @@ Real incline_travel(Real tan_theta) {
   char xml[1024];
   std::snprintf(xml, sizeof xml, R"(<scene>
   <simulation timestep="0.001" fps="24" startFrame="1" endFrame="49"/>
-  <plane name="slope" point="0 0 0" normal="%.17g %.17g 0" friction="0.5"/>
-  <cloth name="c" grid="4 4" size="0.1 0.1" rotate="0 0 %.17g" translate="%.17g %.17g 0" friction="0.5">
+  <plane name="slope" point="0 0 0" normal="%.17g %.17g 0" friction="%g"/>
+  <cloth name="c" grid="4 4" size="0.1 0.1" rotate="0 0 %.17g" translate="%.17g %.17g 0" friction="%g">
     <density value="2"/><stiffness value="50"/><damping value="0.01"/><thickness value="%g"/>
-  </cloth></scene>)", n.x(), n.y(), deg, h * n.x(), h * n.y(), h);
+  </cloth></scene>)", n.x(), n.y(), mu_plane, deg, h * n.x(), h * n.y(), mu_cloth, h);
   write_text(dir / "s.xml", xml);
   auto sc = load_collision_scene(dir / "s.xml");
   const Vec3 start = centroid(sc.built.state);
@@ -109,6 +110,17 @@ TEST_CASE("incline: sticks below tan theta = mu, slides by the Coulomb closed fo
   const Real tan_theta = 0.55, theta = std::atan(tan_theta), t = 2.0;
   const Real expected = 0.5 * 9.81 * (std::sin(theta) - 0.5 * std::cos(theta)) * t * t;  // 0.86 m
   CHECK(incline_travel(tan_theta) == doctest::Approx(expected).epsilon(0.05));
+}
+
+TEST_CASE("friction combine: a frictionless plane under a mu 0.6 cloth lets it slide down 15 degrees freely") {
+  // Geometric mean sqrt(0.6 * 0) = 0: the Coulomb closed form with mu 0, a = g sin 15 deg, over 2 s. (A mean
+  // of 0.3 would exceed tan 15 = 0.27 and hold the patch.)
+  const Real theta = 15 * M_PI / 180, t = 2.0;
+  CHECK(incline_travel(std::tan(theta), 0.6, 0) == doctest::Approx(0.5 * 9.81 * std::sin(theta) * t * t).epsilon(0.03));
+  // sqrt(0.6 * 0.1) = 0.245 < tan 15: it slides at g (sin - 0.245 cos); a mean (0.35) would hold it.
+  const Real mu = std::sqrt(0.06);
+  CHECK(incline_travel(std::tan(theta), 0.6, 0.1) ==
+        doctest::Approx(0.5 * 9.81 * (std::sin(theta) - mu * std::cos(theta)) * t * t).epsilon(0.05));
 }
 
 TEST_CASE("restitution: a flat cloth leaves the ground with the set ratio of normal speeds") {

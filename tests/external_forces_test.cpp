@@ -1,12 +1,14 @@
 // External forces against closed forms: Provot's wind on a flat sheet, seeded random forces, transforms.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/transform.h"
 #include "scene_fixtures.h"
 #include "systems/forces.h"
 #include "systems/random_force.h"
+#include "systems/step.h"
 
 using namespace clothsim;
 
@@ -49,29 +51,81 @@ TEST_CASE("gravity, external acceleration and air damping add up, pinned particl
   CHECK((ws.f[6] - a).norm() > 0.1);
 }
 
-TEST_CASE("random accelerations: reproducible from the seed, inside the allowed signs, uniform") {
+TEST_CASE("random accelerations: reproducible from the seed, inside the allowed signs, uniform at the nodes") {
   RandomForceDesc r;
   r.amplitude = 2.0;
   r.seed = 42;
   r.allow = {true, true, false, true, true, false};  // x: both signs, y: positive only, z: negative only
   double sum[3] = {0, 0, 0};
   const int n = 20000;
-  for (int p = 0; p < n; ++p)
+  for (int p = 0; p < n; ++p) {
+    // Lattice nodes (time 17 periods, space p cells along x): each value is one independent uniform draw.
+    const Vec3 x(p * r.cell_size, 0, 0);
+    const Vec3 a = random_acceleration(r, 17 * r.period, x);
+    CHECK(a == random_acceleration(r, 17 * r.period, x));
     for (int axis = 0; axis < 3; ++axis) {
-      const Real a = random_acceleration(r, 17, p, axis);
-      CHECK(a == random_acceleration(r, 17, p, axis));
-      CHECK(a >= (r.allow[2 * axis] ? -2.0 : 0.0));
-      CHECK(a <= (r.allow[2 * axis + 1] ? 2.0 : 0.0));
-      sum[axis] += a;
+      CHECK(a[axis] >= (r.allow[2 * axis] ? -2.0 : 0.0));
+      CHECK(a[axis] <= (r.allow[2 * axis + 1] ? 2.0 : 0.0));
+      sum[axis] += a[axis];
     }
+  }
   // Means of U(-2,2), U(0,2), U(-2,0) with a standard error of about 0.008 over 20000 draws.
   CHECK(sum[0] / n == doctest::Approx(0).scale(1).epsilon(0.05));
   CHECK(sum[1] / n == doctest::Approx(1).epsilon(0.05));
   CHECK(sum[2] / n == doctest::Approx(-1).epsilon(0.05));
   RandomForceDesc other = r;
   other.seed = 43;
-  CHECK(random_acceleration(r, 17, 5, 0) != random_acceleration(other, 17, 5, 0));
-  CHECK(random_acceleration(r, 17, 5, 0) != random_acceleration(r, 18, 5, 0));
+  const Vec3 at(0.3, 0.1, -0.2);
+  CHECK(random_acceleration(r, 0.7, at) != random_acceleration(other, 0.7, at));
+  CHECK(random_acceleration(r, 0.7, at) != random_acceleration(r, 1.7, at));
+}
+
+TEST_CASE("random accelerations are gusts: neighbours and successive steps differ by the interpolation's bound") {
+  RandomForceDesc r;
+  r.amplitude = 3.0;  // range 6 m/s^2 per axis
+  r.seed = 7;
+  Real worst_space = 0, worst_time = 0;
+  for (int p = 0; p < 2000; ++p) {
+    const Vec3 x(0.37 * p, 0.011 * p, -0.023 * p);
+    const Real t = 0.013 * p;
+    const Vec3 a = random_acceleration(r, t, x);
+    // Trilinear in space: |da| <= range |dx|_1 / cell; smoothstep in time: |da| <= 1.5 range dt / period.
+    worst_space = std::max(worst_space, (random_acceleration(r, t, x + Vec3(0.01, 0.01, 0.01)) - a).cwiseAbs().maxCoeff());
+    worst_time = std::max(worst_time, (random_acceleration(r, t + 1e-3, x) - a).cwiseAbs().maxCoeff());
+  }
+  CHECK(worst_space <= 6.0 * 0.03 / r.cell_size + 1e-12);
+  CHECK(worst_time <= 1.5 * 6.0 * 1e-3 / r.period + 1e-12);
+  CHECK(worst_space > 0.01);  // the field does vary
+}
+
+// Kinetic energy of a free 16 x 16 sheet (no gravity) after 1 s of random forces, symplectic Euler at step h.
+static Real random_sheet_energy(Real h) {
+  SceneDesc s = test::grid_scene(16, 16, 1.0, Integrator::symplectic, h);
+  s.simulation.gravity = Vec3::Zero();
+  s.forces.random.amplitude = 2.0;
+  s.forces.random.seed = 3;
+  s.cloths[0].stiffness = 20;  // well within the symplectic limit at 1 ms
+  s.cloths[0].density = 1;
+  BuiltScene b = test::build(s);
+  const Model& m = b.model;
+  State state = b.state, next = state;
+  Workspace ws = make_workspace(m);
+  for (int k = 0; k < int(std::lround(1.0 / h)); ++k) {
+    step(m, state, next, ws, h);
+    std::swap(state, next);
+  }
+  Real e = 0;
+  for (Index i = 0; i < m.particle_count; ++i) e += 0.5 * state.v[i].squaredNorm() / m.particle_inv_mass[i];
+  return e;
+}
+
+TEST_CASE("random forces do not depend on the time step: the energy after 1 s at 1 ms and 0.25 ms agrees") {
+  // A fresh draw per step is a random walk (energy ~ h: 3.7x apart); the gust field is a fixed function of
+  // position and time, so the two runs converge to the same motion.
+  const Real coarse = random_sheet_energy(1e-3), fine = random_sheet_energy(2.5e-4);
+  MESSAGE("kinetic energy after 1 s: " << coarse << " J at 1 ms, " << fine << " J at 0.25 ms");
+  CHECK(coarse > 1e-3);
+  CHECK(coarse / fine == doctest::Approx(1).epsilon(0.1));
 }
 
 TEST_CASE("transform: scale, then rotate about X, Y, Z (degrees), then translate") {

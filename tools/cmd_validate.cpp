@@ -8,6 +8,24 @@
 #include "tools/step_advice.h"
 
 namespace clothsim::cli {
+namespace {
+
+// Settings that parse but do not do what a user of the original tool expects (docs/scene-format.md, "Names
+// from the original tool").
+void print_setting_warnings(const SceneDesc& d, const Model& m) {
+  if (m.integrator == Integrator::euler && m.air_damping == 0) {
+    bool damped = false;
+    for (Index k = 0; k < m.spring_count && !damped; ++k) damped = m.spring_kd[k] > 0;
+    if (!damped)
+      std::printf("  warning: integrator=\"euler\" without damping (spring damping and airDamping 0) grows every "
+                  "oscillation at any time step; the original tool's \"Euler\" is integrator=\"symplectic\"\n");
+  }
+  if (!d.colliders.empty() && d.simulation.collision_iterations == 0)
+    std::printf("  warning: collisionIterations=\"0\" turns collisions off: the %zu collider%s will be ignored\n",
+                d.colliders.size(), d.colliders.size() == 1 ? "" : "s");
+}
+
+}  // namespace
 
 int cmd_validate(int argc, char** argv) {
   const Args args = parse_args(argc, argv, {}, {});
@@ -38,6 +56,7 @@ int cmd_validate(int argc, char** argv) {
               "implicit unlimited\n", limits.omega_max, limits.symplectic, limits.rk4);
   const std::string warning = step_warning(m, limits);
   if (!warning.empty()) std::printf("  %s\n", warning.c_str());
+  print_setting_warnings(s.desc, m);
   return exit_ok;
 }
 

@@ -8,8 +8,15 @@ from dataclasses import dataclass
 
 import bpy
 
-from . import collider_export, mesh_files, scene_xml
+import numpy as np
+
+from . import collider_export, map_bake, mesh_files, scene_xml
 from .mesh_export import mesh_obj_text
+
+# Vertex groups baked into maps: (scene element, group property, value at weight 0, value at weight 1).
+MAPPED_PARAMETERS = (("stiffness", "stiffness_group", "stiffness", "stiffness_max"),
+                     ("thickness", "thickness_group", "thickness", "thickness_max"),
+                     ("mass", "mass_group", "mass_min", "mass_max"))
 
 
 @dataclass
@@ -60,16 +67,47 @@ def cloth_objects(scene):
     return objects_of_role(scene, "CLOTH")
 
 
+def vertex_group_weights(obj, group_name, what):
+    """Weight of every vertex in the named group (None for a vertex outside it)."""
+    group = obj.vertex_groups.get(group_name)
+    if group is None:
+        raise ValueError(f"'{obj.name}': {what} group '{group_name}' is not a vertex group of this object")
+    gi = group.index
+    weights = [None] * len(obj.data.vertices)
+    for v in obj.data.vertices:
+        for g in v.groups:
+            if g.group == gi:
+                weights[v.index] = g.weight
+    return weights
+
+
 def pinned_vertices(obj):
     s = obj.clothsim
     if not s.pin_group:
         return []
-    group = obj.vertex_groups.get(s.pin_group)
-    if group is None:
-        raise ValueError(f"'{obj.name}': pin group '{s.pin_group}' is not a vertex group of this object")
-    gi = group.index
-    return [v.index for v in obj.data.vertices
-            if any(g.group == gi and g.weight >= s.pin_weight for g in v.groups)]
+    weights = vertex_group_weights(obj, s.pin_group, "pin")
+    return [i for i, w in enumerate(weights) if w is not None and w >= s.pin_weight]
+
+
+def parameter_maps(obj, maps_dir, name):
+    """Bakes each parameter's vertex group into maps_dir/<name>_<element>.png: {element: (min, max, path)}."""
+    s, mesh, out = obj.clothsim, obj.data, {}
+    for element, group_prop, lo_prop, hi_prop in MAPPED_PARAMETERS:
+        group = getattr(s, group_prop)
+        if not group:
+            continue
+        if mesh.uv_layers.active is None:
+            raise ValueError(f"'{obj.name}': the {element} group needs a UV map (clothsim samples maps at UVs)")
+        weights = np.array([w or 0.0 for w in vertex_group_weights(obj, group, element)])
+        corner_vertex = np.empty(len(mesh.loops), dtype=np.int64)
+        mesh.loops.foreach_get("vertex_index", corner_vertex)
+        uv = np.empty(2 * len(mesh.loops), dtype=np.float32)  # Blender's own precision, as the OBJ writes it
+        mesh.uv_layers.active.data.foreach_get("uv", uv)
+        os.makedirs(maps_dir, exist_ok=True)
+        path = os.path.join(maps_dir, f"{name}_{element}.png")
+        map_bake.bake_weights(path, weights, corner_vertex, uv.reshape(-1, 2).astype(np.float64))
+        out[element] = (getattr(s, lo_prop), getattr(s, hi_prop), path)
+    return out
 
 
 def frame_range(scene):
@@ -86,7 +124,10 @@ def scene_spec(scene, cloths):
     return scene_xml.SceneSpec(
         timestep=s.timestep, fps=scene.render.fps / scene.render.fps_base, start_frame=start, end_frame=end,
         integrator=s.integrator, gravity=gravity, wind_velocity=tuple(s.wind_velocity),
-        wind_strength=s.wind_strength, air_damping=s.air_damping, cloths=cloths)
+        wind_strength=s.wind_strength, air_damping=s.air_damping,
+        external_acceleration=tuple(s.external_acceleration), random_amplitude=s.random_amplitude,
+        random_seed=s.random_seed, random_period=s.random_period, random_cell_size=s.random_cell_size,
+        cloth_collision=s.cloth_collision, cloths=cloths)
 
 
 def export_scene(scene):
@@ -108,7 +149,9 @@ def export_scene(scene):
         specs.append(scene_xml.ClothSpec(
             name=name, obj=obj_path, save_dir=frames_dir, save_name=name, density=s.density,
             stiffness=s.stiffness, bend=s.bend, damping=s.damping, thickness=s.thickness, friction=s.friction,
-            restitution=s.restitution, self_collision=s.self_collision, pins=pinned_vertices(obj)))
+            restitution=s.restitution, self_collision=s.self_collision, cloth_collision=s.cloth_collision,
+            max_strain=s.max_strain, pins=pinned_vertices(obj),
+            maps=parameter_maps(obj, os.path.join(work_dir, "maps"), name)))
         exported.append(ExportedCloth(obj.name, frames_dir, name))
     if not specs:
         raise ValueError("no cloth in the scene: mark a mesh as Cloth in Properties > Physics > clothsim")

@@ -35,11 +35,17 @@ class CLOTHSIM_PT_object(PhysicsTabPanel, bpy.types.Panel):
         if s.role == "CLOTH":
             props(col, s, "density", "stiffness", "bend", "damping", "thickness")
         if s.role == "CLOTH":
-            props(col, s, "friction", "restitution", "self_collision")
+            props(col, s, "friction", "restitution", "self_collision", "cloth_collision", "max_strain")
             col.prop_search(s, "pin_group", obj, "vertex_groups")
             sub = col.column()
             sub.active = bool(s.pin_group)
             sub.prop(s, "pin_weight")
+            for group, fields in (("stiffness_group", ("stiffness_max",)), ("thickness_group", ("thickness_max",)),
+                                  ("mass_group", ("mass_min", "mass_max"))):
+                col.prop_search(s, group, obj, "vertex_groups")
+                sub = col.column()
+                sub.active = bool(getattr(s, group))
+                props(sub, s, *fields)
         else:
             props(col, s, "collider_shape", "friction")
             if s.collider_shape == "MESH":
@@ -60,7 +66,11 @@ class CLOTHSIM_PT_run(PhysicsTabPanel, bpy.types.Panel):
         col.prop(s, "use_scene_gravity")
         if not s.use_scene_gravity:
             col.prop(s, "gravity")
-        props(col, s, "wind_velocity", "wind_strength", "air_damping", "cache_dir", "threads")
+        props(col, s, "wind_velocity", "wind_strength", "air_damping", "external_acceleration", "random_amplitude")
+        sub = col.column()
+        sub.active = s.random_amplitude > 0
+        props(sub, s, "random_seed", "random_period", "random_cell_size")
+        props(col, s, "cloth_collision", "cache_dir", "threads")
         row = layout.row(align=True)
         if operators._active["job"] is None:
             row.operator("clothsim.simulate", icon="PLAY")

@@ -48,6 +48,30 @@ class ClothsimObjectSettings(bpy.types.PropertyGroup):
                                description="Bounce, 0..1 (<cloth restitution>); clothsim rejects values over 1")
     self_collision: BoolProperty(name="Self-collision", default=False,
                                  description="Collide the cloth with itself (<cloth selfCollision>)")
+    cloth_collision: BoolProperty(name="Cloth collision", default=True,
+                                  description="Collide with the scene's other cloths (<cloth clothCollision>)")
+    max_strain: FloatProperty(name="Max strain", default=0.0, min=0.0, soft_max=0.5, precision=3,
+                              description="Provot strain limit, largest (length - rest)/rest of a spring; 0: none "
+                                          "(<cloth maxStrain>)")
+    # Vertex groups baked into grey-scale maps (tools/blender/clothsim_addon/map_bake.py): the field above is the
+    # value at weight 0, the "at weight 1" field the value at weight 1, linear between.
+    stiffness_group: StringProperty(name="Stiffness group",
+                                    description="Vertex group scaling the stiffness (<stiffness min max map>); "
+                                                "empty: uniform Stiffness")
+    stiffness_max: FloatProperty(name="Stiffness at weight 1", default=1000.0, min=0.0, soft_max=1e5,
+                                 description="Stiffness, N/m, of a vertex of weight 1 in the stiffness group")
+    thickness_group: StringProperty(name="Thickness group",
+                                    description="Vertex group scaling the thickness (<thickness min max map>)")
+    thickness_max: FloatProperty(name="Thickness at weight 1", default=0.005, min=1e-6, soft_max=0.1,
+                                 precision=4, subtype="DISTANCE", unit="LENGTH",
+                                 description="Thickness, m, of a vertex of weight 1 in the thickness group")
+    mass_group: StringProperty(name="Mass group",
+                               description="Vertex group giving per-vertex masses (<mass min max map>) instead of "
+                                           "Density; empty: Density")
+    mass_min: FloatProperty(name="Mass at weight 0", default=0.001, min=1e-9, soft_max=1.0, precision=5,
+                            description="Mass, kg, of a vertex of weight 0 (or outside) the mass group")
+    mass_max: FloatProperty(name="Mass at weight 1", default=0.001, min=1e-9, soft_max=1.0, precision=5,
+                            description="Mass, kg, of a vertex of weight 1 in the mass group")
     pin_group: StringProperty(name="Pin group",
                               description="Vertex group of pinned vertices (<pins vertices>); empty: no pins")
     pin_weight: FloatProperty(name="Pin weight", default=0.5, min=0.0, max=1.0,
@@ -59,7 +83,8 @@ class ClothsimSceneSettings(bpy.types.PropertyGroup):
         name="Integrator", default="symplectic",
         items=[("symplectic", "Symplectic Euler", "Semi-implicit Euler"),
                ("euler", "Explicit Euler", "Forward Euler"),
-               ("rk4", "Runge-Kutta 4", "Classic fourth-order Runge-Kutta")],
+               ("rk4", "Runge-Kutta 4", "Classic fourth-order Runge-Kutta"),
+               ("implicit", "Implicit (backward Euler)", "Baraff-Witkin backward Euler: stable at large steps")],
         description="<simulation integrator>")
     timestep: FloatProperty(name="Time step", default=0.001, min=1e-9, soft_max=0.01, precision=6,
                             description="Requested time step, s (<simulation timestep>); clothsim shortens it to "
@@ -78,6 +103,20 @@ class ClothsimSceneSettings(bpy.types.PropertyGroup):
                                  description="kg/(m^2 s); 0: no wind (<wind strength>)")
     air_damping: FloatProperty(name="Air damping", default=0.0, min=0.0, soft_max=5.0,
                                description="1/s (<airDamping value>)")
+    external_acceleration: FloatVectorProperty(name="External acceleration", default=(0.0, 0.0, 0.0),
+                                               subtype="ACCELERATION",
+                                               description="m/s^2 added to gravity, world space (<external>)")
+    random_amplitude: FloatProperty(name="Gust amplitude", default=0.0, min=0.0, soft_max=20.0,
+                                    description="Largest random acceleration per axis, m/s^2; 0: none (<random>)")
+    random_seed: IntProperty(name="Gust seed", default=1, min=0, description="<random seed>")
+    random_period: FloatProperty(name="Gust period", default=0.5, min=1e-3, soft_max=5.0,
+                                 description="s between the gust field's nodes in time (<random period>)")
+    random_cell_size: FloatProperty(name="Gust cell size", default=0.5, min=1e-3, soft_max=10.0,
+                                    subtype="DISTANCE", unit="LENGTH",
+                                    description="m between the gust field's nodes in space (<random cellSize>)")
+    cloth_collision: BoolProperty(name="Cloths collide", default=True,
+                                  description="Different cloths collide with each other (<simulation "
+                                              "clothCollision>)")
     cache_dir: StringProperty(name="Cache folder", subtype="DIR_PATH", default="//clothsim_cache",
                               description="Where the scene, meshes and frames are written ('//' is the .blend "
                                           "file's folder; a temporary folder while the file is unsaved)")

@@ -4,7 +4,7 @@ No bpy here: the panel's settings are gathered into the dataclasses below by exp
 checked with plain Python against `clothsim validate`. Attribute names and units follow docs/scene-format.md.
 """
 from dataclasses import dataclass, field
-from typing import List, Sequence, Tuple
+from typing import Dict, List, Sequence, Tuple
 from xml.sax.saxutils import quoteattr
 
 Vec3 = Tuple[float, float, float]
@@ -24,7 +24,12 @@ class ClothSpec:
     friction: float = 0.3
     restitution: float = 0.0
     self_collision: bool = False
+    cloth_collision: bool = True  # collides with the scene's other cloths
+    max_strain: float = 0.0       # Provot strain limit, (length - rest)/rest; 0: none
     pins: List[int] = field(default_factory=list)  # vertex indices, from 0
+    # Parameter maps: element name (density, mass, stiffness, damping, thickness) -> (min, max, grey map path),
+    # value = lerp(min, max, grey); a mapped element replaces its value, and a mass map replaces the density.
+    maps: Dict[str, Tuple[float, float, str]] = field(default_factory=dict)
 
 
 @dataclass
@@ -51,6 +56,12 @@ class SceneSpec:
     wind_velocity: Vec3 = (0.0, 0.0, 0.0)
     wind_strength: float = 0.0    # kg/(m^2 s)
     air_damping: float = 0.0      # 1/s
+    external_acceleration: Vec3 = (0.0, 0.0, 0.0)  # m/s^2, added to gravity
+    random_amplitude: float = 0.0  # m/s^2; 0: no random gusts
+    random_seed: int = 1
+    random_period: float = 0.5    # s between the gust field's nodes in time
+    random_cell_size: float = 0.5  # m between them in space
+    cloth_collision: bool = True  # different cloths collide with each other
     cloths: List[ClothSpec] = field(default_factory=list)
     colliders: List[ColliderSpec] = field(default_factory=list)
 
@@ -75,6 +86,20 @@ def _vec(v: Sequence[float]) -> str:
     return " ".join(_num(c) for c in v)
 
 
+def _bool(b: bool) -> str:
+    return "true" if b else "false"
+
+
+def _param(c: ClothSpec, element: str, value, extra=()) -> str:
+    """<element value=…/>, or <element min max map/> when the cloth has a map for it."""
+    if element in c.maps:
+        lo, hi, path = c.maps[element]
+        pairs = [("min", _num(lo)), ("max", _num(hi)), ("map", path)]
+    else:
+        pairs = [("value", _num(value))]
+    return f"    <{element} " + _attrs(pairs + list(extra)) + "/>"
+
+
 def _attrs(pairs) -> str:
     return " ".join(f"{k}={quoteattr(str(v))}" for k, v in pairs)
 
@@ -84,11 +109,18 @@ def format_scene(scene: SceneSpec) -> str:
     out.append("  <simulation " + _attrs([
         ("timestep", _num(scene.timestep)), ("fps", _num(scene.fps)),
         ("startFrame", int(scene.start_frame)), ("endFrame", int(scene.end_frame)),
-        ("integrator", scene.integrator), ("gravity", _vec(scene.gravity))]) + "/>")
+        ("integrator", scene.integrator), ("gravity", _vec(scene.gravity)),
+        ("clothCollision", _bool(scene.cloth_collision))]) + "/>")
     forces = []
+    if any(scene.external_acceleration):
+        forces.append("    <external " + _attrs([("acceleration", _vec(scene.external_acceleration))]) + "/>")
     if scene.wind_strength > 0:
         forces.append("    <wind " + _attrs([("velocity", _vec(scene.wind_velocity)),
                                             ("strength", _num(scene.wind_strength))]) + "/>")
+    if scene.random_amplitude > 0:
+        forces.append("    <random " + _attrs([
+            ("amplitude", _num(scene.random_amplitude)), ("seed", int(scene.random_seed)),
+            ("period", _num(scene.random_period)), ("cellSize", _num(scene.random_cell_size))]) + "/>")
     if scene.air_damping > 0:
         forces.append("    <airDamping " + _attrs([("value", _num(scene.air_damping))]) + "/>")
     if forces:
@@ -99,11 +131,15 @@ def format_scene(scene: SceneSpec) -> str:
         out.append("  <cloth " + _attrs([
             ("name", c.name), ("obj", c.obj), ("saveDir", c.save_dir), ("saveName", c.save_name),
             ("friction", _num(c.friction)), ("restitution", _num(c.restitution)),
-            ("selfCollision", "true" if c.self_collision else "false")]) + ">")
-        out.append("    <density " + _attrs([("value", _num(c.density))]) + "/>")
-        out.append("    <stiffness " + _attrs([("value", _num(c.stiffness)), ("bend", _num(c.bend))]) + "/>")
-        out.append("    <damping " + _attrs([("value", _num(c.damping))]) + "/>")
-        out.append("    <thickness " + _attrs([("value", _num(c.thickness))]) + "/>")
+            ("selfCollision", _bool(c.self_collision)), ("clothCollision", _bool(c.cloth_collision))] +
+            ([("maxStrain", _num(c.max_strain))] if c.max_strain > 0 else [])) + ">")
+        if "mass" in c.maps:
+            out.append(_param(c, "mass", None))
+        else:
+            out.append(_param(c, "density", c.density))
+        out.append(_param(c, "stiffness", c.stiffness, [("bend", _num(c.bend))]))
+        out.append(_param(c, "damping", c.damping))
+        out.append(_param(c, "thickness", c.thickness))
         if c.pins:
             out.append("    <pins " + _attrs([("vertices", " ".join(str(int(i)) for i in c.pins))]) + "/>")
         out.append("  </cloth>")

@@ -5,7 +5,8 @@
 Builds a pinned plane and a sphere, marks them, runs Simulate, and checks that the cloth's evaluated vertex
 positions at several frames equal clothsim's OBJ frames to float32 precision (what Blender stores), that the
 pinned vertices did not move, that UVs and material survive, and that clothsim's own error messages (exit 2 and
-exit 3) come back as operator reports."""
+exit 3) come back as operator reports; and that parameter maps baked from vertex groups, gusts, an external
+force, implicit integration, maxStrain and clothCollision reach a scene clothsim accepts."""
 import math
 import os
 import re
@@ -238,6 +239,85 @@ def test_colliders(cloth, sphere):
     check('sequence="' + os.path.join(colliders, "Box.####.obj") + '"' in text, "animated mesh: a <static sequence>")
 
 
+def read_png_grey16(path):
+    """The 16-bit grey PNGs the add-on bakes (filter 0 on every row), as an (h, w) array of 0..1."""
+    import struct
+    import zlib
+    data = open(path, "rb").read()
+    pos, idat, w, h = 8, b"", 0, 0
+    while pos < len(data):
+        n, tag = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        if tag == b"IHDR":
+            w, h = struct.unpack(">II", body[:8])
+        elif tag == b"IDAT":
+            idat += body
+        pos += 12 + n
+    rows = np.frombuffer(zlib.decompress(idat), dtype=np.uint8).reshape(h, 1 + 2 * w)
+    return rows[:, 1:].copy().view(">u2").astype(np.float64) / 65535
+
+
+def sample(grey, u, v):
+    """docs/maps.md: texel (i, j) centred at u = (i + 0.5)/W, v = 1 - (j + 0.5)/H, bilinear between, clamped."""
+    h, w = grey.shape
+    x, y = u * w - 0.5, (1 - v) * h - 0.5
+    i, j = int(np.floor(x)), int(np.floor(y))
+    fx, fy = x - i, y - j
+    at = lambda a, b: grey[min(max(b, 0), h - 1), min(max(a, 0), w - 1)]  # noqa: E731
+    return ((1 - fx) * (1 - fy) * at(i, j) + fx * (1 - fy) * at(i + 1, j) + (1 - fx) * fy * at(i, j + 1)
+            + fx * fy * at(i + 1, j + 1))
+
+
+def test_scene_format(cloth):
+    """Parameter maps from vertex groups, gusts, external force, implicit integration, maxStrain and
+    clothCollision reach the scene; clothsim accepts it and runs it."""
+    import subprocess
+    scene, s = bpy.context.scene, cloth.clothsim
+    cloth.modifiers.remove(cloth.modifiers["clothsim"])
+    co = np.array([v.co[:] for v in cloth.data.vertices])
+    ramp = (co[:, 0] - co[:, 0].min()) / np.ptp(co[:, 0])  # 0 at one edge, 1 at the other
+    for name in ("stiff", "thick", "heavy"):
+        group = cloth.vertex_groups.new(name=name)
+        for i, w in enumerate(ramp):
+            if i % 5:  # every fifth vertex outside the group: weight 0
+                group.add([i], float(w), "REPLACE")
+    s.stiffness_group, s.stiffness, s.stiffness_max = "stiff", 200.0, 800.0
+    s.thickness_group, s.thickness, s.thickness_max = "thick", 0.002, 0.008
+    s.mass_group, s.mass_min, s.mass_max = "heavy", 0.001, 0.004
+    s.max_strain, s.cloth_collision = 0.1, False
+    run = scene.clothsim
+    run.integrator, run.timestep, run.cloth_collision = "implicit", 1 / 240, False
+    run.random_amplitude, run.random_seed, run.random_period, run.random_cell_size = 1.5, 3, 0.25, 0.3
+    run.external_acceleration = (0.5, 0.0, 0.0)
+    check(bpy.ops.clothsim.write_scene() == {"FINISHED"}, "Write Scene with maps and forces")
+    cache = os.path.join(SCRATCH, "cache")
+    text = open(os.path.join(cache, "scene.xml")).read()
+    maps = os.path.join(cache, "maps")
+    for element in ('integrator="implicit"', 'clothCollision="false" maxStrain="0.1"',
+                    '<simulation timestep="0.004166667"', 'clothCollision="false"/>',
+                    '<external acceleration="0.5 0 0"/>',
+                    '<random amplitude="1.5" seed="3" period="0.25" cellSize="0.3"/>',
+                    f'<stiffness min="200" max="800" map="{os.path.join(maps, "Sheet_stiffness.png")}" bend="0.2"/>',
+                    f'<thickness min="0.002" max="0.008" map="{os.path.join(maps, "Sheet_thickness.png")}"/>',
+                    f'<mass min="0.001" max="0.004" map="{os.path.join(maps, "Sheet_mass.png")}"/>'):
+        check(element in text, f"scene has {element}")
+    check("<density" not in text, "a mass map replaces the density")
+    # Every vertex's map sample, at each of its UVs, is its group weight (0 outside the group).
+    mesh = cloth.data
+    uv = np.array([d.uv[:] for d in mesh.uv_layers.active.data], dtype=np.float32).astype(np.float64)
+    corner_vertex = [loop.vertex_index for loop in mesh.loops]
+    want = np.where(np.arange(len(ramp)) % 5 != 0, ramp.astype(np.float32), 0.0)
+    for element in ("stiffness", "thickness", "mass"):
+        grey = read_png_grey16(os.path.join(maps, f"Sheet_{element}.png"))
+        err = max(abs(sample(grey, *uv[c]) - want[vi]) for c, vi in enumerate(corner_vertex))
+        check(err < 2e-5, f"{element} map: each vertex's UV samples its weight (max error {err:.1e})")
+    r = subprocess.run([BINARY, "validate", os.path.join(cache, "scene.xml")], capture_output=True, text=True)
+    mapped = r"stiffness (per element|\d+ values) \(mapped or scaled\).*thickness (per element|\d+ values) \(mapped"
+    check(r.returncode == 0 and re.search(mapped, r.stdout) is not None,
+          f"clothsim validate takes the maps ({r.stdout!r})")
+    check(bpy.ops.clothsim.simulate() == {"FINISHED"}, "Simulate the implicit, strain-limited, gusty sheet")
+
+
 def main():
     shutil.rmtree(SCRATCH, ignore_errors=True)
     os.makedirs(SCRATCH)
@@ -246,6 +326,7 @@ def main():
     test_errors(cloth, _sphere)
     test_cancel(cloth)
     test_colliders(cloth, _sphere)
+    test_scene_format(cloth)
     print(f"{len(FAILURES)} failure(s)")
     sys.exit(1 if FAILURES else 0)
 
