@@ -8,6 +8,7 @@
 #include "systems/integrate_explicit.h"
 #include "systems/integrate_implicit.h"
 #include "systems/integrate_rk4.h"
+#include "systems/stitch_forces.h"
 #include "systems/strain_limit.h"
 
 namespace clothsim {
@@ -32,6 +33,7 @@ void step(const Model& model, const State& in, State& out, Workspace& ws, Real h
   }
   collide(model, in, out, ws, h);
   if (model.strain_limited) apply_strain_limit(model, out, ws, h);
+  if (model.stitch_count > 0) apply_stitch_limit(model, out, h, in.time + h);
   out.time = in.time + h;
   out.step = in.step + 1;
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
