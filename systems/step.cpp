@@ -32,8 +32,8 @@ void step(const Model& model, const State& in, State& out, Workspace& ws, Real h
       break;
   }
   collide(model, in, out, ws, h);
-  if (model.strain_limited) apply_strain_limit(model, out, ws, h);
   if (model.stitch_count > 0) apply_stitch_limit(model, out, h, in.time + h);
+  if (model.strain_limited) apply_strain_limit(model, out, ws, h);
   out.time = in.time + h;
   out.step = in.step + 1;
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
