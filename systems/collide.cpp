@@ -307,7 +307,7 @@ void collide_analytic(const Model& m, State& out, CollisionScratch& s, Real h) {
       if (d >= thick) continue;
       const Vec3 dv =
           collider_velocity_change(out.v[i], Vec3::Zero(), n, cloth.restitution, 0.5 * (cloth.friction + ci.friction));
-      accumulate_contact(s, i, dv, collider_position_change(dv, n, d, thick, h));
+      accumulate_contact(s, i, dv, eased_position_change(dv, n, d, thick, h));
     }
   });
 }
@@ -323,7 +323,7 @@ void respond_vertex_triangle(const Model& m, const State& out, CollisionScratch&
     Vec3 v_col = Vec3::Zero();
     for (int k = 0; k < 3; ++k) v_col += w[k] * (t.x1[k] - t.x0[k]) / h;
     const Vec3 dv = collider_velocity_change(out.v[i], v_col, n, m.cloths[m.collision.particle_cloth[i]].restitution, mu);
-    accumulate_contact(s, i, dv, collider_position_change(dv, n, d, thick, h));
+    accumulate_contact(s, i, dv, eased_position_change(dv, n, d, thick, h));
     return;
   }
   const Index p[4] = {i, t.p[0], t.p[1], t.p[2]};

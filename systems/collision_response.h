@@ -41,18 +41,26 @@ inline Vec3 collider_velocity_change(const Vec3& v, const Vec3& v_col, const Vec
   return dv;
 }
 
-// Fastest a particle is pushed from a collider's surface out to the thickness, m/s: a garment that starts in
-// contact with the body (closer than its thickness) eases out instead of jumping the whole thickness in one step,
-// which would stretch the springs round it (docs/garments.md, "Initial contact").
-inline constexpr Real collider_separation_speed = 0.1;
-
 // Position change that goes with a velocity change dv over a step h (x = x0 + h v, as the integrators move
-// positions), plus the push along n towards distance `thickness` on the safe side: all the way back to the
-// surface when it ended behind it, then at most collider_separation_speed * h further per step.
+// positions), plus the push along n that leaves the particle at distance `thickness` on the safe side.
 inline Vec3 collider_position_change(const Vec3& dv, const Vec3& n, Real d, Real thickness, Real h) {
   const Real d_after = d + h * dv.dot(n);
-  const Real push = std::min(thickness - d_after, std::max(Real(0), -d_after) + collider_separation_speed * h);
-  return h * dv + std::max(Real(0), push) * n;
+  return h * dv + std::max(Real(0), thickness - d_after) * n;
+}
+
+// Speed, beyond the approach a contact stops, at which a cloth vertex is pushed from a collider's surface out to
+// the thickness, m/s: a garment that starts in contact with the body (closer than its thickness, at rest) eases
+// out instead of jumping the whole thickness in one step, which would stretch the springs round it
+// (docs/garments.md, "Initial contact").
+inline constexpr Real collider_separation_speed = 0.1;
+
+// collider_position_change for a cloth vertex: back to the surface at once when it ended behind it, then at most
+// (dv.n + collider_separation_speed) h further towards the thickness.
+inline Vec3 eased_position_change(const Vec3& dv, const Vec3& n, Real d, Real thickness, Real h) {
+  const Real dvn = dv.dot(n);
+  const Real d_after = d + h * dvn;
+  const Real reach = std::max(Real(0), -d_after) + (std::max(Real(0), dvn) + collider_separation_speed) * h;
+  return h * dv + std::max(Real(0), std::min(thickness - d_after, reach)) * n;
 }
 
 // Adds sum wt_i v_i to rel and sum wt_i^2 inv_m_i to denom over the pair's particles: the relative velocity of a
