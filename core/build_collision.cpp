@@ -79,6 +79,26 @@ void build_vertex_tris(CollisionModel& c) {
       c.mesh_vertex_first_tri[v] = c.mesh_vertex_tri[c.mesh_vertex_tri_offset[v]];
 }
 
+// The seam CSR: each stitch joins its sewn vertex a to b and c (and b, c to a); a row sorted, without repeats.
+void build_seams(const Model& m, CollisionModel& c) {
+  std::vector<std::pair<Index, Index>> links;
+  links.reserve(4 * std::size_t(m.stitch_count));
+  for (Index s = 0; s < m.stitch_count; ++s)
+    for (const Index o : {m.stitch_b[s], m.stitch_c[s]}) {
+      links.emplace_back(m.stitch_a[s], o);
+      links.emplace_back(o, m.stitch_a[s]);
+    }
+  std::sort(links.begin(), links.end());
+  links.erase(std::unique(links.begin(), links.end()), links.end());
+  c.seam_offset.assign(std::size_t(m.particle_count) + 1, 0);
+  c.seam_index.clear();
+  for (const auto& [i, j] : links) {
+    ++c.seam_offset[i + 1];
+    c.seam_index.push_back(j);
+  }
+  for (Index i = 0; i < m.particle_count; ++i) c.seam_offset[i + 1] += c.seam_offset[i];
+}
+
 }  // namespace
 
 void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& meshes, const std::vector<Vec3>& x,
@@ -94,6 +114,7 @@ void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& 
   c.zone_iterations = scene.simulation.impact_zone_iterations;
   c.broad_phase = scene.simulation.broad_phase;
 
+  if (m.stitch_count > 0) build_seams(m, c);
   c.particle_cloth.resize(m.particle_count);
   c.tri_contact.assign(m.tri_count, 0);
   for (std::size_t k = 0; k < m.cloths.size(); ++k) {

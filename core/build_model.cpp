@@ -11,6 +11,7 @@
 #include "core/grid.h"
 #include "core/spring_chunks.h"
 #include "core/spring_colours.h"
+#include "core/stitches.h"
 #include "core/tethers.h"
 #include "core/topology.h"
 #include "core/transform.h"
@@ -52,6 +53,25 @@ ParamField vertex_field(const SceneDesc& scene, const ClothDesc& cloth, const Me
                                             std::to_string(sampled.size()) + " values; expected one per vertex (" +
                                             std::to_string(mesh.vertex_count()) + ")");
   return ParamField::from_values(sampled);
+}
+
+// A cloth's stitches: its OBJ's records, its <stitch> pairs (range-checked here) and its weld pairs.
+void add_cloth_stitches(const SceneDesc& scene, const ClothDesc& cd, const MeshData& mesh, Index base,
+                        const std::vector<Vec3>& positions, const ParamField& stiffness, const ParamField& damping,
+                        Model& m) {
+  StitchList s{mesh.stitch_a, mesh.stitch_b, mesh.stitch_c, mesh.stitch_w};
+  for (std::size_t k = 0; k + 1 < cd.stitch_pairs.size(); k += 2) {
+    const Index i = cd.stitch_pairs[k], j = cd.stitch_pairs[k + 1];
+    if (i >= mesh.vertex_count() || j >= mesh.vertex_count() || i == j)
+      throw Error(scene.path, cd.line,
+                  "cloth '" + cd.name + "': stitch " + std::to_string(i) + " " + std::to_string(j) +
+                      " is out of range or sews a vertex to itself; expected two distinct vertices of 0.." +
+                      std::to_string(mesh.vertex_count() - 1));
+    s.add(i, j, j, 0);
+  }
+  const std::span<const Vec3> x(positions.data() + base, std::size_t(mesh.vertex_count()));
+  add_weld_stitches(mesh, x, cd.weld, s);
+  append_stitches(m, s, base, positions, stiffness, damping, cd.sew_speed);
 }
 
 }  // namespace
@@ -203,6 +223,7 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
     }
     m.spring_count += springs.size();
     springs = SpringList();
+    add_cloth_stitches(scene, cd, mesh, base, positions, stiffness, damping, m);
     mesh = MeshData();  // this cloth's mesh is built: free it before the next one
     info.spring_end = m.spring_count;
     m.particle_count = info.particle_end;
@@ -225,6 +246,7 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
   if (m.needs_normals()) m.particle_area = std::move(area);
 
   build_particle_tris(m);
+  if (m.stitch_count > 0) build_particle_stitches(m);
   // Each spring computed once and no per-spring buffer, where the spring order allows it (docs/performance.md).
   if (build_spring_chunks(m)) m.spring_layout = SpringLayout::blocked;
   // The spring CSR only when a kernel of this model reads it (the blocked layout alone does not).

@@ -69,6 +69,9 @@ struct CollisionModel {
   std::vector<Index> tri_edge;         // the three edges of each triangle holding listed edges, -1 otherwise (3 * tri_count)
   Real max_thickness = 0;              // m
   Real cell_size = 0;                  // spatial hash cell, m
+  // Seams: the particles each particle is stitched to (Model::stitch_*), sorted. Like the two ends of a mesh edge
+  // they are neighbours, not contacts: a sewn seam is not an intersection (docs/garments.md).
+  std::vector<Index> seam_offset, seam_index;  // CSR (particle_count + 1, or 0 without stitches)
 
   // --- broad-phase primitives: the tri_contact cloth triangles, then collider triangles
   // prim id p < tri_count is cloth triangle p; p >= tri_count is collider triangle p - tri_count.
@@ -82,9 +85,23 @@ struct CollisionModel {
   bool impact_zones() const { return !prim.empty() && iterations > 0 && zone_iterations > 0; }
   // Whether a vertex or edge of cloth a meets a triangle or edge of cloth b (the narrow phase's pair filter).
   bool cloths_collide(Index a, Index b) const { return cloth_pair[std::size_t(a) * cloth_count + b] != 0; }
-  // Vertex i against the cloth triangle with corners tri[0..2]: their cloths meet and i is not a corner.
+  // Particles a and b are the same or sewn together by a stitch.
+  bool joined(Index a, Index b) const {
+    if (a == b) return true;
+    if (seam_offset.empty()) return false;
+    for (Index k = seam_offset[a]; k < seam_offset[a + 1]; ++k)
+      if (seam_index[k] == b) return true;
+    return false;
+  }
+  // Vertex i against the cloth triangle with corners tri[0..2]: their cloths meet and i is neither a corner nor
+  // sewn to one.
   bool vertex_meets_cloth_triangle(Index i, const Index* tri) const {
-    return cloths_collide(particle_cloth[i], particle_cloth[tri[0]]) && tri[0] != i && tri[1] != i && tri[2] != i;
+    return cloths_collide(particle_cloth[i], particle_cloth[tri[0]]) && !joined(i, tri[0]) && !joined(i, tri[1]) &&
+           !joined(i, tri[2]);
+  }
+  // Edges (a, b) and (p, q) share an end, or an end of one is sewn to an end of the other: not a contact pair.
+  bool edges_adjacent(Index a, Index b, Index p, Index q) const {
+    return joined(a, p) || joined(a, q) || joined(b, p) || joined(b, q);
   }
 };
 

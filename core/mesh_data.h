@@ -16,8 +16,13 @@ struct MeshData {
   std::vector<Index> tri_uv;     // uv indices per corner (3 * triangle_count), or empty without UVs
   int polygons_triangulated = 0; // faces with more than 3 corners that were split into a fan
   VertexParams params;           // sampled from the cloth's maps; empty arrays for uniform values
+  // sewing (Codim-IPC's `stitch i j k w`, 0-based): vertex stitch_a belongs at (1 - w) x_b + w x_c (stitch count)
+  std::vector<Index> stitch_a, stitch_b, stitch_c;
+  std::vector<Real> stitch_w;
+  Index seam_count = 0;          // `seam N` group lines read (they only group stitches)
 
   Index vertex_count() const { return static_cast<Index>(positions.size()); }
+  Index stitch_count() const { return static_cast<Index>(stitch_a.size()); }
   Index triangle_count() const { return static_cast<Index>(tri_index.size() / 3); }
 };
 

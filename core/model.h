@@ -97,6 +97,18 @@ struct Model {
   // the particle is in cache (systems/forces.h); false runs them as separate passes (same bytes; for tests)
   bool fuse_particle_pass = true;
 
+  // --- stitches: zero-rest-length seams (systems/stitch_forces.h), vertex stitch_a sewn to the point
+  // (1 - w) x_b + w x_c; from the cloth OBJ's stitch records, <stitch> pairs and <cloth weld>
+  Index stitch_count = 0;
+  std::vector<Index> stitch_a, stitch_b, stitch_c;  // (stitch_count)
+  std::vector<Real> stitch_w;                       // weight of stitch_c, in [0, 1] (stitch_count)
+  std::vector<Real> stitch_ke;                      // stiffness, N/m (stitch_count)
+  std::vector<Real> stitch_kd;                      // damping, N s/m (stitch_count)
+  std::vector<Vec3> stitch_gap0;                    // gap x_a - ((1 - w) x_b + w x_c) at the start, m (stitch_count)
+  std::vector<Real> stitch_close_time;              // s after the start when the sewing target reaches 0 (stitch_count)
+  // incident stitches of each particle, entry = 3 * stitch + slot (0: a, 1: b, 2: c) (particle_count + 1 or 0)
+  std::vector<Index> particle_stitch_offset, particle_stitch_index;
+
   // --- triangles
   Index tri_count = 0;
   std::vector<Index> tri_index;               // (3 * tri_count)

@@ -90,6 +90,9 @@ struct ClothDesc {
   Real max_strain = 0;        // Provot 1995 strain limit (|d| - rest)/rest, 0 for none
   bool mass_per_vertex = false;  // <mass> given: kg per vertex instead of density lumped by area
   Real mass = 0;              // kg per vertex, when mass_per_vertex and not mapped
+  std::vector<Index> stitch_pairs;  // <stitch vertices="i j ...">: vertex pairs sewn together (0-based)
+  Real weld = 0;              // m: boundary vertices of different pieces closer than this are sewn; 0 for none
+  Real sew_speed = 0.2;       // m/s: how fast a stitch's target gap shrinks to zero (systems/stitch_forces.h)
   ParamMapDesc density_map, mass_map, stiffness_map, damping_map, thickness_map, pins_map;
 };
 

@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/limits.h"
+#include "io/obj_stitches.h"
 #include "io/text_file.h"
 
 namespace clothsim::io {
@@ -173,8 +174,9 @@ MeshData read_obj(const std::string& path, MeshCheck check) {
       throw Error(path, line_in_message(err), "malformed OBJ: " + err);
     }
   }
-  std::string().swap(text);  // parsed: free it before the mesh is checked
   MeshData& mesh = sink.mesh;
+  read_obj_stitches(path, text, mesh);
+  std::string().swap(text);  // parsed: free it before the mesh is checked
   const std::size_t nv = mesh.positions.size(), nuv = mesh.uvs.size();
   for (std::size_t k = 0; k < mesh.tri_index.size(); ++k) {
     if (mesh.tri_index[k] < 0 || std::size_t(mesh.tri_index[k]) >= nv)

@@ -297,11 +297,24 @@ void read_collider(const std::string& file, const std::string& text, const std::
   }
 }
 
+// The vertices="..." attribute: 0-based vertex indices, appended to out.
+void read_vertex_indices(const ElementReader& s, std::vector<Index>& out) {
+  std::istringstream in(s.text("vertices"));
+  std::string tok;
+  while (in >> tok) {
+    Index v = -1;
+    auto [q, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+    if (ec != std::errc() || q != tok.data() + tok.size() || v < 0)
+      s.bad("vertices", "vertex indices (integers >= 0, counted from 0)");
+    out.push_back(v);
+  }
+}
+
 void read_cloth(const std::string& file, const std::string& text, const std::string& base, pugi::xml_node n,
                 ClothDesc& c, int index) {
   ElementReader r(file, text, n,
                   {"name", "obj", "grid", "size", "saveDir", "saveName", "texture", "translate", "rotate", "scale",
-                   "friction", "restitution", "selfCollision", "clothCollision", "maxStrain"});
+                   "friction", "restitution", "selfCollision", "clothCollision", "maxStrain", "weld", "sewSpeed"});
   c.line = r.line();
   c.name = r.text("name", "cloth" + std::to_string(index));
   if (r.has("obj") == r.has("grid")) r.fail("expected exactly one of obj=\"mesh.obj\" or grid=\"NX NY\"");
@@ -334,6 +347,8 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
   c.self_collision = r.boolean("selfCollision", c.self_collision);
   c.cloth_collision = r.boolean("clothCollision", c.cloth_collision);
   if (r.has("maxStrain")) c.max_strain = r.positive("maxStrain", 0, "largest strain (|d| - rest)/rest, e.g. 0.1");
+  c.weld = r.non_negative("weld", c.weld, "m");
+  c.sew_speed = r.positive("sewSpeed", c.sew_speed, "m/s");
 
   bool has_density = false;
   for (pugi::xml_node p : n.children()) {
@@ -370,18 +385,16 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
         c.pins_map.max = 1;
         c.pins_map.line = s.line();
       }
-      std::istringstream in(s.text("vertices"));
-      std::string tok;
-      while (in >> tok) {
-        Index v = -1;
-        auto [q, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-        if (ec != std::errc() || q != tok.data() + tok.size() || v < 0)
-          s.bad("vertices", "vertex indices (integers >= 0, counted from 0)");
-        c.pins.push_back(v);
-      }
+      read_vertex_indices(s, c.pins);
+    } else if (name == "stitch") {
+      ElementReader s(file, text, p, {"vertices"});
+      const std::size_t before = c.stitch_pairs.size();
+      read_vertex_indices(s, c.stitch_pairs);
+      if ((c.stitch_pairs.size() - before) % 2 != 0 || c.stitch_pairs.size() == before)
+        s.bad("vertices", "vertex pairs \"i j  k l ...\" (an even count of 0-based indices)");
     } else {
       ElementReader::unknown_element(file, text, p,
-          "unknown element in <cloth>; expected density, mass, stiffness, damping, thickness or pins");
+          "unknown element in <cloth>; expected density, mass, stiffness, damping, thickness, pins or stitch");
     }
   }
 }

@@ -249,7 +249,7 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
         const Index f = c.tri_edge[3 * prim + k];
         if (f <= e || c.edge_first_tri[f] != prim) continue;
         const Index fa = c.edge_a[f], fb = c.edge_b[f];
-        if (fa == a || fa == b || fb == a || fb == b) continue;
+        if (c.edges_adjacent(a, b, fa, fb)) continue;
         if (!c.cloths_collide(c.particle_cloth[a], c.particle_cloth[fa])) continue;
         const Vec3* const x0[4] = {&in.x[a], &in.x[b], &in.x[fa], &in.x[fb]};
         const Vec3* const x1[4] = {&out.x[a], &out.x[b], &out.x[fa], &out.x[fb]};
@@ -331,7 +331,7 @@ void collide_analytic(const Model& m, State& out, CollisionScratch& s, Real h) {
       if (d >= thick) continue;
       const Vec3 dv =
           collider_velocity_change(out.v[i], Vec3::Zero(), n, cloth.restitution, combine_friction(cloth.friction, ci.friction));
-      accumulate_contact(s, i, dv, collider_position_change(dv, n, d, thick, h));
+      accumulate_contact(s, i, dv, eased_position_change(dv, n, d, thick, h));
     }
   });
 }
@@ -347,7 +347,7 @@ void respond_vertex_triangle(const Model& m, const State& out, CollisionScratch&
     Vec3 v_col = Vec3::Zero();
     for (int k = 0; k < 3; ++k) v_col += w[k] * (t.x1[k] - t.x0[k]) / h;
     const Vec3 dv = collider_velocity_change(out.v[i], v_col, n, m.cloths[m.collision.particle_cloth[i]].restitution, mu);
-    accumulate_contact(s, i, dv, collider_position_change(dv, n, d, thick, h));
+    accumulate_contact(s, i, dv, eased_position_change(dv, n, d, thick, h));
     return;
   }
   const Index p[4] = {i, t.p[0], t.p[1], t.p[2]};
@@ -440,7 +440,7 @@ void for_each_edge_crossing(const Model& m, const State& in, const State& out, c
           if (f <= e || c.edge_first_tri[f] != prim) continue;
           p[2] = c.edge_a[f];
           p[3] = c.edge_b[f];
-          if (p[2] == a || p[2] == b || p[3] == a || p[3] == b) continue;
+          if (c.edges_adjacent(a, b, p[2], p[3])) continue;
           if (!c.cloths_collide(cloth, c.particle_cloth[p[2]])) continue;
           x0[2] = in.x[p[2]], x0[3] = in.x[p[3]];
           x1[2] = out.x[p[2]], x1[3] = out.x[p[3]];

@@ -92,9 +92,9 @@ Index count_intersecting_triangles(const Model& m, std::span<const Vec3> x) {
     for (Index j = k + 1; j < m.tri_count && lo[order[j]] <= hi[a]; ++j) {
       const Index b = order[j];
       const Index* pb = &m.tri_index[3 * b];
-      bool adjacent = false;
+      bool adjacent = false;  // sharing a corner, or a corner sewn to one of the other's (a seam)
       for (int u = 0; u < 3; ++u)
-        for (int w = 0; w < 3; ++w) adjacent = adjacent || pa[u] == pb[w];
+        for (int w = 0; w < 3; ++w) adjacent = adjacent || m.collision.joined(pa[u], pb[w]);
       if (adjacent) continue;
       bool cross = false;
       for (int e = 0; e < 3 && !cross; ++e) {

@@ -20,7 +20,8 @@ Index count_inside(const Model& model, std::span<const Vec3> x, const CollisionS
 // closed meshes (count_inside checks those).
 Index count_collider_crossings(const Model& model, std::span<const Vec3> x, const CollisionScratch& s, Index c);
 
-// Pairs of cloth triangles that share no vertex and intersect (an edge of one crosses the other).
+// Pairs of cloth triangles that share no vertex, nor a sewn pair of vertices (CollisionModel::joined), and
+// intersect (an edge of one crosses the other).
 Index count_intersecting_triangles(const Model& model, std::span<const Vec3> x);
 
 // True when segment p-q crosses triangle (a, b, c) (Moller & Trumbore 1997, with the ray clipped to [0, 1]).

@@ -48,6 +48,21 @@ inline Vec3 collider_position_change(const Vec3& dv, const Vec3& n, Real d, Real
   return h * dv + std::max(Real(0), thickness - d_after) * n;
 }
 
+// Speed, beyond the approach a contact stops, at which a cloth vertex is pushed from a collider's surface out to
+// the thickness, m/s: a garment that starts in contact with the body (closer than its thickness, at rest) eases
+// out instead of jumping the whole thickness in one step, which would stretch the springs round it
+// (docs/garments.md, "Initial contact").
+inline constexpr Real collider_separation_speed = 0.1;
+
+// collider_position_change for a cloth vertex: back to the surface at once when it ended behind it, then at most
+// (dv.n + collider_separation_speed) h further towards the thickness.
+inline Vec3 eased_position_change(const Vec3& dv, const Vec3& n, Real d, Real thickness, Real h) {
+  const Real dvn = dv.dot(n);
+  const Real d_after = d + h * dvn;
+  const Real reach = std::max(Real(0), -d_after) + (std::max(Real(0), dvn) + collider_separation_speed) * h;
+  return h * dv + std::max(Real(0), std::min(thickness - d_after, reach)) * n;
+}
+
 // Adds sum wt_i v_i to rel and sum wt_i^2 inv_m_i to denom over the pair's particles: the relative velocity of a
 // cloth-cloth (or cloth-collider-edge) pair and the effective inverse mass its impulse divides by.
 inline void weighted_velocity(const Index* p, const Real* wt, int count, const Model& m, const std::vector<Vec3>& v,

@@ -1,11 +1,14 @@
 #include "systems/forces.h"
 
+#include "systems/stitch_forces.h"
+
 namespace clothsim {
 
 void eval_forces(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, std::int64_t step,
                  Workspace& ws) {
   const auto t0 = std::chrono::steady_clock::now();
   eval_springs(model, x, v, ws.f, ws.spring_force);
+  if (model.stitch_count > 0) eval_stitches(model, x, v, Real(step) * model.dt, ws.f);
   if (model.needs_normals()) eval_normals(model, x, ws.normal);
   apply_external_forces(model, x, v, step, ws.normal, ws.f);
   ++ws.force_evaluations;

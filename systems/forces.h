@@ -23,7 +23,8 @@ void eval_forces(const Model& model, std::span<const Vec3> x, std::span<const Ve
 template <class Update>
 void eval_forces_then(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::int64_t step,
                       Workspace& ws, Update&& update) {
-  if (m.spring_layout != SpringLayout::blocked || !m.fuse_particle_pass) {
+  // Stitches add their forces after the springs, before any particle is final: no fused pass with them.
+  if (m.spring_layout != SpringLayout::blocked || !m.fuse_particle_pass || m.stitch_count > 0) {
     eval_forces(m, x, v, step, ws);
     parallel_over(m.particle_count, particle_grain, update);
     return;

@@ -51,6 +51,12 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
         kv += spring_dfdx_times(x[a], x[b], m.spring_rest[s], m.spring_ke[s], v[j] - v[i]);
       }
     }
+    // Stitches: their diagonal coefficient and (df/dx) v (systems/stitch_forces.h).
+    if (m.stitch_count > 0) {
+      const Real d = stitch_diagonal(m, i, h);
+      block.xx += d, block.yy += d, block.zz += d;
+      if (first) kv += stitch_dfdx_times(m, i, v);
+    }
     ws.cg_precond[i] = Sym3::from(block.full().inverse());  // symmetric up to round-off: its lower triangle
     ws.cg_r[i] = first ? Vec3(h * mass * ws.f[i] + (h * h) * kv) : Vec3(h * mass * ws.f[i] - mass * ws.dv[i]);
   });

@@ -129,6 +129,9 @@ void build_multigrid_operators(const Model& m, Real h, Workspace& ws) {
         for (Index k = L.member_offset[n]; k < L.member_offset[n + 1]; ++k) {
           const Index i = L.member_index[k];
           g += particle_system_block(m, i, 1 / m.particle_inv_mass[i], h, ws);
+          // Stitches join panels that no aggregate spans; their diagonal, kept here, stops the coarse levels from
+          // taking a sewn panel as free to move (systems/stitch_forces.h).
+          if (m.stitch_count > 0) g += stitch_diagonal(m, i, h) * Mat3::Identity();
         }
         L.ground[n] = Sym3::from(g);
         L.ground[n] += sum_blocks(L.ground_offset, L.ground_index, ws.spring_block, n);

@@ -8,6 +8,7 @@
 #include "systems/integrate_explicit.h"
 #include "systems/integrate_implicit.h"
 #include "systems/integrate_rk4.h"
+#include "systems/stitch_forces.h"
 #include "systems/strain_limit.h"
 
 namespace clothsim {
@@ -30,6 +31,7 @@ void step(const Model& model, const State& in, State& out, Workspace& ws, Real h
       integrate_implicit(model, in, out, ws, h);
       break;
   }
+  if (model.stitch_count > 0) apply_stitch_limit(model, out, h, in.time + h);
   // Collisions end the step (Bridson et al. 2002 §7): the strain limit's projections move particles without
   // looking at contacts, so run after collisions they could drag cloth back into a body or another layer.
   if (model.strain_limited) apply_strain_limit(model, out, ws, h);

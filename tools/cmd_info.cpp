@@ -42,6 +42,8 @@ int cmd_info(int argc, char** argv) {
         .field("degenerate_triangles", topo.degenerate_triangles)
         .field("unused_vertices", topo.unused_vertices)
         .field("polygons_triangulated", mesh.polygons_triangulated)
+        .field("stitches", mesh.stitch_count())
+        .field("seams", mesh.seam_count)
         .field("has_uvs", !mesh.uvs.empty())
         .field("load_seconds", load)
         .field("topology_seconds", topology)
@@ -60,6 +62,7 @@ int cmd_info(int argc, char** argv) {
     std::printf("  non-manifold edges    %d (no bend spring)\n", topo.nonmanifold_edges);
     std::printf("  degenerate triangles  %d\n", topo.degenerate_triangles);
     std::printf("  unused vertices       %d\n", topo.unused_vertices);
+    std::printf("  stitches              %d (in %d seams)\n", mesh.stitch_count(), mesh.seam_count);
     std::printf("  UVs                   %s\n", mesh.uvs.empty() ? "no" : "yes");
     std::printf("  load                  %.3f s\n", load);
     std::printf("  topology              %.3f s\n", topology);
