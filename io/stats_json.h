@@ -18,6 +18,10 @@ struct FrameStats {
   std::vector<int> cg_iterations;  // implicit: CG iterations of each step of the frame (empty otherwise)
   std::vector<Real> cg_residual;   // implicit: final relative CG residual |r|/|b| of each step
   ZoneFigures zones;               // rigid impact zones of this frame's steps (written when the scene has them)
+  struct Steps {
+    int taken = 0, rejected = 0;   // steps of the frame; rejected ones were retried smaller (timestep="auto")
+    Real smallest = 0, largest = 0;  // s, accepted steps
+  } steps;
 };
 
 struct RunStats {

@@ -117,9 +117,11 @@ CgResult solve_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h
                                                        : run_cg<Preconditioner::jacobi>(m, x, ws, h, layout);
 }
 
-void integrate_implicit(const Model& m, const State& in, State& out, Workspace& ws, Real h, ImplicitLayout layout) {
+StepResult integrate_implicit(const Model& m, const State& in, State& out, Workspace& ws, Real h,
+                              ImplicitLayout layout) {
   const Index n = m.particle_count;
   Workspace::SolveRecord record;
+  StepResult result;
   for (int k = 0; k < m.newton_iterations; ++k) {
     const bool first = k == 0;
     // Baraff & Witkin linearise about (x0, v0); each Newton correction about the latest iterate (out.x, out.v).
@@ -133,6 +135,7 @@ void integrate_implicit(const Model& m, const State& in, State& out, Workspace& 
     const CgResult cg = solve_cg(m, x, ws, h, layout);
     record.cg_iterations += cg.iterations;
     record.cg_residual = cg.residual;
+    if (!(cg.residual <= m.cg_tolerance)) result.failed = true;
     parallel_over(n, particle_grain, [&](Index i) {
       ws.dv[i] += ws.cg_x[i];
       out.v[i] = in.v[i] + ws.dv[i];
@@ -141,6 +144,7 @@ void integrate_implicit(const Model& m, const State& in, State& out, Workspace& 
   }
   ws.cg_iterations_total += record.cg_iterations;
   if (ws.solve_log.size() < ws.solve_log.capacity()) ws.solve_log.push_back(record);
+  return result;
 }
 
 }  // namespace clothsim

@@ -8,6 +8,7 @@
 
 #include "core/model.h"
 #include "systems/implicit_system.h"
+#include "systems/step_result.h"
 
 namespace clothsim {
 
@@ -18,8 +19,9 @@ struct CgResult {
 
 // Advances in by h into out; model.newton_iterations linear solves (the first is Baraff & Witkin's, later ones
 // are Newton corrections of the backward-Euler residual about the latest iterate). Appends the step's CG
-// iterations and final residual to ws.solve_log while its capacity lasts.
-void integrate_implicit(const Model& model, const State& in, State& out, Workspace& ws, Real h,
+// iterations and final residual to ws.solve_log while its capacity lasts. Failed when a solve stopped at
+// cgMaxIterations above cgTolerance.
+StepResult integrate_implicit(const Model& model, const State& in, State& out, Workspace& ws, Real h,
                         ImplicitLayout layout = ImplicitLayout::spring_blocks);
 
 // One preconditioned CG solve of A y = b, b already in ws.cg_r, y left in ws.cg_x; x are the positions the
