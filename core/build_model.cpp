@@ -92,6 +92,9 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
   m.steps_per_frame = steps_per_frame(sim);
   m.fps = sim.fps;
   m.dt = 1.0 / (sim.fps * m.steps_per_frame);
+  m.auto_step = sim.timestep_auto;
+  m.step_safety = sim.step_safety;
+  m.min_dt = sim.min_timestep;
   m.start_frame = sim.start_frame;
   m.end_frame = sim.end_frame;
   m.gravity = sim.gravity + scene.forces.external_acceleration;

@@ -126,6 +126,9 @@ struct Model {
   Integrator integrator = Integrator::symplectic;
   Real dt = 0;                          // s, the step actually taken: 1/(fps * steps_per_frame)
   int steps_per_frame = 1;
+  bool auto_step = false;               // timestep="auto": dt set by systems/adaptive_step.h, adapted in the run
+  Real step_safety = 0.7;               // auto: fraction of the estimated stable step
+  Real min_dt = 0;                      // auto: smallest step, s, before the run stops as diverged
   Real fps = 24;
   int start_frame = 1, end_frame = 1;
   Real cg_tolerance = 1e-6;             // implicit: relative CG residual |r|/|b| to stop at

@@ -17,6 +17,12 @@ enum class BroadPhase { hash, bvh };
 
 struct SimulationDesc {
   Real timestep = 0.001;       // s, requested; the step used divides a frame evenly (steps_per_frame)
+  // timestep="auto": the step is chosen from the stability estimate and adapted during the run
+  // (systems/adaptive_step.h); step_safety is the fraction of the estimated limit taken, min_timestep the
+  // smallest step before the run stops as diverged (0: the chosen step / 1024)
+  bool timestep_auto = false;
+  Real step_safety = 0.7;
+  Real min_timestep = 0;
   Real fps = 24;               // frames per second of the output sequence
   int start_frame = 1;         // frame written from the initial state
   int end_frame = 48;          // last frame written

@@ -168,8 +168,13 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
   ElementReader r(file, text, n,
                   {"timestep", "fps", "startFrame", "endFrame", "integrator", "gravity", "collisionIterations",
                    "cgTolerance", "cgMaxIterations", "newtonIterations", "preconditioner",
-                   "broadPhase", "checkpointEvery", "clothCollision", "impactZoneIterations"});
-  sim.timestep = r.positive("timestep", sim.timestep, "s");
+                   "broadPhase", "checkpointEvery", "clothCollision", "impactZoneIterations",
+                   "stepSafety", "minTimestep"});
+  sim.timestep_auto = r.text("timestep") == "auto";
+  if (!sim.timestep_auto) sim.timestep = r.positive("timestep", sim.timestep, "s");
+  sim.step_safety = r.positive("stepSafety", sim.step_safety, "fraction of the stable step");
+  if (sim.step_safety > 1) r.bad("stepSafety", "a number in (0, 1] (fraction of the estimated stable step)");
+  if (r.has("minTimestep")) sim.min_timestep = r.positive("minTimestep", sim.min_timestep, "s");
   sim.fps = r.positive("fps", sim.fps, "frames per second");
   sim.start_frame = r.integer("startFrame", sim.start_frame);
   sim.end_frame = r.integer("endFrame", sim.end_frame);

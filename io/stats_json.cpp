@@ -19,6 +19,7 @@ std::string format_stats(const Model& m, const RunStats& s) {
   const char* integrators[] = {"euler", "symplectic", "rk4", "implicit"};
   j.field("integrator", std::string_view(integrators[int(m.integrator)]));
   j.field("dt", m.dt).field("steps_per_frame", m.steps_per_frame).field("steps", s.steps);
+  j.field("timestep", std::string_view(m.auto_step ? "auto" : "fixed"));
   j.field("force_evaluations", s.force_evaluations).field("threads", s.threads);
   if (m.integrator == Integrator::implicit) {
     j.field("preconditioner", std::string_view(m.preconditioner == Preconditioner::multigrid   ? "multigrid"
@@ -44,6 +45,8 @@ std::string format_stats(const Model& m, const RunStats& s) {
   j.key("frames").begin_array();
   for (const FrameStats& f : s.frames) {
     j.begin_object().field("frame", f.frame).field("max_strain", f.max_strain).field("kinetic_energy", f.kinetic_energy);
+    j.field("steps", f.steps.taken).field("steps_rejected", f.steps.rejected);
+    j.field("step_min", f.steps.smallest).field("step_max", f.steps.largest);
     if (m.integrator == Integrator::implicit) {
       j.key("cg_iterations").begin_array();
       for (int it : f.cg_iterations) j.value(it);

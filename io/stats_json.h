@@ -20,6 +20,10 @@ struct FrameStats {
   ZoneFigures zones;               // rigid impact zones of this frame's steps (written when the scene has them)
   int implicit_failed = 0;         // implicit: steps of the frame whose health check failed (SolveRecord::failed)
   int factorizations = 0;          // implicit, preconditioner="cholesky": numeric factorisations in the frame
+  struct Steps {
+    int taken = 0, rejected = 0;   // steps of the frame; rejected ones were retried smaller (timestep="auto")
+    Real smallest = 0, largest = 0;  // s, accepted steps
+  } steps;
 };
 
 struct RunStats {

@@ -138,8 +138,8 @@ CgResult solve_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h
   return run_cg<Preconditioner::jacobi>(m, x, ws, h, layout);
 }
 
-Workspace::SolveRecord integrate_implicit(const Model& m, const State& in, State& out, Workspace& ws, Real h,
-                                          ImplicitLayout layout) {
+StepResult integrate_implicit(const Model& m, const State& in, State& out, Workspace& ws, Real h,
+                              ImplicitLayout layout) {
   const Index n = m.particle_count;
   Workspace::SolveRecord record;
   record.strain_before = max_spring_strain(m, in.x);
@@ -175,7 +175,7 @@ Workspace::SolveRecord integrate_implicit(const Model& m, const State& in, State
   ws.cg_iterations_total += record.cg_iterations;
   if (record.failed()) ++ws.implicit_failed_total;
   if (ws.solve_log.size() < ws.solve_log.capacity()) ws.solve_log.push_back(record);
-  return record;
+  return StepResult{record.failed()};
 }
 
 }  // namespace clothsim

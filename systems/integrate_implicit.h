@@ -8,6 +8,7 @@
 
 #include "core/model.h"
 #include "systems/implicit_system.h"
+#include "systems/step_result.h"
 
 namespace clothsim {
 
@@ -17,11 +18,11 @@ struct CgResult {
 };
 
 // Advances in by h into out; model.newton_iterations linear solves (the first is Baraff & Witkin's, later ones
-// are Newton corrections of the backward-Euler residual about the latest iterate). Returns the step's health
-// (CG iterations, residual, convergence, the strain at both ends; failed() when the result is not to be trusted:
-// a solve stopped at its cap, a Newton correction raised the residual, or a spring stretched by more than
-// SolveRecord::strain_jump in the step) and appends it to ws.solve_log while its capacity lasts.
-Workspace::SolveRecord integrate_implicit(const Model& model, const State& in, State& out, Workspace& ws, Real h,
+// are Newton corrections of the backward-Euler residual about the latest iterate). Records the step's health in
+// ws.solve_log while its capacity lasts (CG iterations, residual, convergence, the strain at both ends) and
+// returns failed when the result is not to be trusted (Workspace::SolveRecord::failed: a solve stopped at its
+// cap, a Newton correction raised the residual, or a spring stretched by more than SolveRecord::strain_jump).
+StepResult integrate_implicit(const Model& model, const State& in, State& out, Workspace& ws, Real h,
                         ImplicitLayout layout = ImplicitLayout::spring_blocks);
 
 // One preconditioned CG solve of A y = b, b already in ws.cg_r, y left in ws.cg_x; x are the positions the

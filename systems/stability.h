@@ -1,5 +1,6 @@
 #pragma once
 // Knowing the limits of the explicit integrators, and noticing when a run has left them.
+#include <cstdint>
 #include <span>
 
 #include "core/model.h"
@@ -14,16 +15,42 @@ namespace clothsim {
 Real estimate_omega_max(const Model& model, std::span<const Vec3> x_rest, int max_iterations = 2000,
                         Real tolerance = 1e-7);
 
-// Largest stable steps for undamped linear springs (the stability intervals of the methods on y'' = -omega^2 y):
-// symplectic Euler h < 2/omega_max; classical RK4 h < 2 sqrt(2)/omega_max; explicit Euler has none (its
-// amplification sqrt(1 + (h omega)^2) exceeds 1 for every h > 0); backward Euler has no limit.
+// Two probes of the damped linear system at rest, M u'' = -K u - C u': the stiffest mode (top eigenvector of
+// M^-1 K) with its damping rate (Rayleigh quotient of M^-1 C on it), and the most damped mode (top eigenvector
+// of M^-1 C) with its frequency. C = sum kd n n^T (the springs' damping, pattern of K) + M (air damping c) +
+// the wind's k_w A n n^T (bounded by its largest diagonal k_w A / m). A spring of zero rest length (a stitch)
+// has no direction at rest: it counts as ke I and kd I, which bounds ke n n^T for every n. When the springs'
+// damping is proportional to their stiffness (one cloth, kd/ke uniform) both probes are the same exact mode.
+struct DampedModes {
+  Real omega_max = 0;       // rad/s
+  Real gamma_of_stiff = 0;  // 1/s, damping rate of the stiffest mode
+  Real gamma_max = 0;       // 1/s, largest damping rate
+  Real omega_of_damped = 0; // rad/s, frequency of the most damped mode
+};
+DampedModes estimate_modes(const Model& model, std::span<const Vec3> x_rest);
+
+// Largest stable step of one damped mode u'' = -omega^2 u - gamma u' (docs/stability.md derives each):
+//   explicit Euler  |1 + h lambda| <= 1: h <= gamma/omega^2 (under-damped), 2/|lambda_max| (over-damped); 0 undamped
+//   symplectic      trace/determinant (Jury) conditions: h^2 omega^2 + 2 h gamma < 4, h = 4/(gamma + sqrt(gamma^2 + 4 omega^2))
+//   RK4             |1 + z + z^2/2 + z^3/6 + z^4/24| <= 1 at z = h lambda for both roots, by bisection
+//   implicit        +inf
+Real mode_step_limit(Integrator integrator, Real omega, Real gamma);
+// Spectral radius of one step h of the integrator on that mode: its amplitude grows by this factor a step when
+// above 1 (implicit: 0, not modelled).
+Real mode_amplification(Integrator integrator, Real omega, Real gamma, Real h);
+
+// Largest stable steps of each integrator for the scene's springs and damping: the smaller of the two probes'.
 struct StableSteps {
   Real omega_max = 0;
-  Real symplectic = 0;  // s, +inf when omega_max is 0
+  Real gamma_max = 0;   // 1/s
+  Real euler = 0;       // s, 0 when some stiff mode is undamped
+  Real symplectic = 0;  // s, +inf when omega_max and gamma_max are 0
   Real rk4 = 0;         // s
 };
+StableSteps stable_steps(const DampedModes& modes);
+// Undamped springs only: symplectic 2/omega_max, RK4 2 sqrt(2)/omega_max, explicit Euler none.
 StableSteps stable_steps(Real omega_max);
-// The limit of the model's integrator: +inf for implicit, 0 for explicit Euler (no stable step).
+// The limit of the model's integrator: +inf for implicit.
 Real stable_step_limit(const StableSteps& limits, Integrator integrator);
 
 // Total mechanical energy relative to the start, J: kinetic + spring potential sum ke (|d| - rest)^2 / 2
@@ -36,5 +63,10 @@ Real mechanical_energy(const Model& model, const State& state, std::span<const V
 // only loses energy; E_scale bounds what gravity, wind and random forcing can feed it, and the spring term
 // (10% strain in every spring) keeps the bound positive in a scene with no external force. docs/stability.md.
 Real energy_rise_bound(const Model& model, std::span<const Vec3> x_start);
+
+// Runs `steps` steps of h from start with the model's integrator; true when it diverged as `clothsim run` judges
+// it: non-finite positions or velocities, or the mechanical energy risen past energy_rise_bound. For the
+// stability studies and tests (allocates its own workspace).
+bool run_diverges(const Model& model, const State& start, Real h, std::int64_t steps);
 
 }  // namespace clothsim

@@ -13,7 +13,8 @@
 
 namespace clothsim {
 
-void step(const Model& model, const State& in, State& out, Workspace& ws, Real h) {
+StepResult step(const Model& model, const State& in, State& out, Workspace& ws, Real h) {
+  StepResult result;
   const auto t0 = std::chrono::steady_clock::now();
   const double forces_before = ws.seconds_forces, collide_before = ws.seconds_collide;
   switch (model.integrator) {
@@ -28,7 +29,7 @@ void step(const Model& model, const State& in, State& out, Workspace& ws, Real h
       integrate_rk4(model, in, out, ws, h);
       break;
     case Integrator::implicit:
-      integrate_implicit(model, in, out, ws, h);
+      result = integrate_implicit(model, in, out, ws, h);
       break;
   }
   if (model.stitch_count > 0) apply_stitch_limit(model, out, h, in.time + h);
@@ -40,6 +41,7 @@ void step(const Model& model, const State& in, State& out, Workspace& ws, Real h
   out.step = in.step + 1;
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   ws.seconds_integrate += total - (ws.seconds_forces - forces_before) - (ws.seconds_collide - collide_before);
+  return result;
 }
 
 void step_frame(const Model& model, State& state, State& scratch, Workspace& ws) {

@@ -16,6 +16,16 @@ using namespace clothsim::test;
 
 namespace {
 
+// One implicit step; its health is the record it logs, and the StepResult it returns must agree with it.
+Workspace::SolveRecord implicit_step(const Model& m, const State& in, State& out, Workspace& ws, Real h) {
+  ws.solve_log.clear();
+  if (ws.solve_log.capacity() == 0) ws.solve_log.reserve(1);
+  const StepResult result = integrate_implicit(m, in, out, ws, h);
+  REQUIRE(ws.solve_log.size() == 1);
+  CHECK(result.failed == ws.solve_log.back().failed());
+  return ws.solve_log.back();
+}
+
 // A horizontal spring at rest, pinned at the origin, its free end under gravity: the linearisation about rest has
 // no transverse stiffness (k (1 - rest/l) = 0), so one linearised step drops the end by g h^2 whatever k is, and
 // leaves the spring stretched by sqrt(1 + (g h^2 / rest)^2) - 1.
@@ -24,7 +34,7 @@ Workspace::SolveRecord horizontal_spring_step(Real h, Real& strain) {
   s.model.gravity = Vec3(0, -9.81, 0);
   Workspace ws = make_workspace(s.model);
   State out = s.state;
-  const Workspace::SolveRecord r = integrate_implicit(s.model, s.state, out, ws, h);
+  const Workspace::SolveRecord r = implicit_step(s.model, s.state, out, ws, h);
   strain = std::sqrt(1 + std::pow(9.81 * h * h / 0.1, 2)) - 1;
   return r;
 }
@@ -61,14 +71,14 @@ TEST_CASE("a CG solve stopped at its cap is reported as not converged") {
   s.model.cg_max_iterations = 3;
   Workspace ws = make_workspace(s.model);
   State out = s.state;
-  const Workspace::SolveRecord r = integrate_implicit(s.model, s.state, out, ws, 1.0 / 120);
+  const Workspace::SolveRecord r = implicit_step(s.model, s.state, out, ws, 1.0 / 120);
   CHECK(r.cg_iterations == 3);
   CHECK(r.cg_residual > s.model.cg_tolerance);
   CHECK_FALSE(r.converged);
   CHECK(r.failed());
   CHECK(ws.implicit_failed_total == 1);
   s.model.cg_max_iterations = 1000;
-  const Workspace::SolveRecord ok = integrate_implicit(s.model, s.state, out, ws, 1.0 / 120);
+  const Workspace::SolveRecord ok = implicit_step(s.model, s.state, out, ws, 1.0 / 120);
   CHECK(ok.converged);
   CHECK_FALSE(ok.failed());
 }
@@ -80,7 +90,7 @@ TEST_CASE("the Cholesky preconditioner solves a step in one CG iteration and kee
   const Real h = 1.0 / 120;
   State out = s.state;
   // A fresh factor of the step's own matrix: CG's first iterate is the solution up to round-off.
-  Workspace::SolveRecord r = integrate_implicit(s.model, s.state, out, ws, h);
+  Workspace::SolveRecord r = implicit_step(s.model, s.state, out, ws, h);
   CHECK(r.factorizations == 1);
   CHECK(r.cg_iterations == 1);
   CHECK(r.cg_residual < 1e-10);
@@ -89,7 +99,7 @@ TEST_CASE("the Cholesky preconditioner solves a step in one CG iteration and kee
   int factorizations = 0, iterations = 0;
   for (int k = 0; k < 10; ++k) {
     std::swap(s.state, out);
-    r = integrate_implicit(s.model, s.state, out, ws, h);
+    r = implicit_step(s.model, s.state, out, ws, h);
     factorizations += r.factorizations;
     iterations += r.cg_iterations;
     CHECK(r.converged);
@@ -98,7 +108,7 @@ TEST_CASE("the Cholesky preconditioner solves a step in one CG iteration and kee
   CHECK(iterations >= 10);
   MESSAGE(factorizations << " factorisations and " << iterations << " CG iterations in 10 steps");
   // A new step size refactors.
-  r = integrate_implicit(s.model, out, s.state, ws, h / 2);
+  r = implicit_step(s.model, out, s.state, ws, h / 2);
   CHECK(r.factorizations == 1);
   CHECK(r.cg_iterations == 1);
   CHECK(workspace_bytes(ws) > 0);

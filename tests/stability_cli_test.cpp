@@ -46,6 +46,15 @@ TEST_CASE("an exploding scene stops with exit code 3, names frame, step and a ti
   CHECK(r.output.find("frame 2, step ") != std::string::npos);
   CHECK(r.output.find("use a time step below") != std::string::npos);
   CHECK(r.output.find("integrator=\"implicit\"") != std::string::npos);
+  // The advice is never the step that diverged: below it.
+  const auto was = r.output.find("The step was ");
+  REQUIRE(was != std::string::npos);
+  const double failed = std::strtod(r.output.c_str() + was + 13, nullptr);
+  const auto below = r.output.find("use a time step below ", was);
+  REQUIRE(below != std::string::npos);
+  const double advised = std::strtod(r.output.c_str() + below + 22, nullptr);
+  CHECK(failed == doctest::Approx(1.0 / 264).epsilon(1e-3));
+  CHECK(advised < failed);
   const auto files = files_in(dir / "out");
   CHECK(files == std::vector<std::string>{"sheet.0001.obj"});  // only the start frame, from the initial state
   for (const auto& f : files) CHECK(largest_coordinate(read_text(dir / "out" / f)) <= 1.0);
@@ -59,7 +68,12 @@ TEST_CASE("explicit Euler diverging slowly is stopped by the energy bound before
                               (dir / "stats.json").string());
   CHECK(r.exit_code == 3);
   CHECK(r.output.find("the mechanical energy rose by") != std::string::npos);
-  CHECK(r.output.find("integrator=\"symplectic\" with a time step below") != std::string::npos);
+  // Its springs are damped (0.02 N s/m on 2000 N/m), so explicit Euler has a limit, near kd/ke = 1e-5 s.
+  const auto below = r.output.find("use a time step below ");
+  REQUIRE(below != std::string::npos);
+  const double advised = std::strtod(r.output.c_str() + below + 22, nullptr);
+  CHECK(advised < 2e-5);
+  CHECK(advised > 2e-6);
   const auto files = files_in(dir / "out");
   CHECK(files.size() >= 2);  // it ran for a while before the bound caught it
   CHECK(files.size() < 400);
@@ -74,7 +88,8 @@ TEST_CASE("validate prints the stable steps and warns when the scene's step is p
   const CliResult fast = run_cli("validate " + (dir / "fast.xml").string());
   CHECK(fast.exit_code == 0);
   CHECK(fast.output.find("largest stable step: symplectic ") != std::string::npos);
-  CHECK(fast.output.find("euler none") != std::string::npos);
+  CHECK(fast.output.find(", euler ") != std::string::npos);  // damped springs: explicit Euler has a limit
+  CHECK(fast.output.find("euler none") == std::string::npos);
   CHECK(fast.output.find("warning: the step 0.00379 s exceeds the RK4 limit") != std::string::npos);
   write_text(dir / "implicit.xml", sheet_scene("timestep=\"0.004\" integrator=\"implicit\""));
   const CliResult imp = run_cli("validate " + (dir / "implicit.xml").string());
@@ -85,6 +100,28 @@ TEST_CASE("validate prints the stable steps and warns when the scene's step is p
   const double limit = std::strtod(fast.output.c_str() + at, nullptr);
   CHECK(limit > 5e-5);
   CHECK(limit < 5e-4);
+}
+
+TEST_CASE("timestep=auto: validate names the step, run reports steps per frame; a solve failing below minTimestep exits 3") {
+  const auto dir = scratch_dir("auto_step_cli");
+  write_text(dir / "auto.xml", sheet_scene("timestep=\"auto\" fps=\"24\" endFrame=\"3\" integrator=\"symplectic\""));
+  const CliResult v = run_cli("validate " + (dir / "auto.xml").string());
+  CHECK(v.exit_code == 0);
+  CHECK(v.output.find("timestep auto: ") != std::string::npos);
+  CHECK(v.output.find("warning") == std::string::npos);
+  const CliResult r = run_cli("run " + (dir / "auto.xml").string() + " --quiet --stats " + (dir / "auto.json").string());
+  CHECK(r.exit_code == 0);
+  const std::string stats = read_text(dir / "auto.json");
+  CHECK(stats.find("\"timestep\":\"auto\"") != std::string::npos);
+  CHECK(stats.find("\"steps_rejected\":0") != std::string::npos);
+  CHECK(stats.find("\"step_min\":") != std::string::npos);
+  // One CG iteration against a 1e-12 tolerance fails every implicit solve: halved down to minTimestep, then exit 3.
+  write_text(dir / "fail.xml", sheet_scene("timestep=\"auto\" fps=\"24\" endFrame=\"3\" integrator=\"implicit\" "
+                                          "preconditioner=\"jacobi\" cgMaxIterations=\"1\" cgTolerance=\"1e-12\""));
+  const CliResult f = run_cli("run " + (dir / "fail.xml").string() + " --quiet");
+  CHECK(f.exit_code == 3);
+  CHECK(f.output.find("below minTimestep") != std::string::npos);
+  CHECK(f.output.find("cgMaxIterations") != std::string::npos);
 }
 
 TEST_CASE("implicit run: byte-identical frames at 1 and 2 threads, CG figures per step in --stats") {

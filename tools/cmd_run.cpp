@@ -15,6 +15,7 @@
 #include "io/mtl_writer.h"
 #include "io/obj_writer.h"
 #include "io/stats_json.h"
+#include "systems/adaptive_step.h"
 #include "systems/collision_check.h"
 #include "systems/diagnostics.h"
 #include "systems/normals.h"
@@ -134,6 +135,8 @@ int cmd_run(int argc, char** argv) {
   const std::vector<Vec3> x_start = state.x;
   const Real energy_start = mechanical_energy(model, state, x_start);
   const Real energy_bound = energy_rise_bound(model, x_start);
+  // timestep="auto": steps adapt inside the frame (systems/adaptive_step.h); it stops only below minTimestep.
+  AdaptiveStepper stepper(model, state);
 
   RunCheckpoints checkpoints(loaded.desc, model, state, dirs.front(),
                              args.has("--checkpoint-every")
@@ -156,26 +159,34 @@ int cmd_run(int argc, char** argv) {
 
   for (int frame = first_frame; frame <= frames.last; ++frame) {
     ws.solve_log.clear();
-    if (frame > model.start_frame) step_frame(model, state, scratch, ws);
+    FrameSteps steps{frame > model.start_frame ? model.steps_per_frame : 0, 0, model.dt, model.dt};
+    bool stepped = true;
+    if (frame > model.start_frame && model.auto_step) stepped = stepper.advance_frame(model, state, scratch, ws, steps);
+    else if (frame > model.start_frame) step_frame(model, state, scratch, ws);
     const bool finite = state_is_finite(state);
     const Real energy_rise = finite ? mechanical_energy(model, state, x_start) - energy_start : 0;
-    if (!finite || !(energy_rise <= energy_bound)) {
-      char reason[160];
-      if (finite)
+    if (!stepped || !finite || !(energy_rise <= energy_bound)) {
+      char reason[200];
+      if (!stepped)
+        std::snprintf(reason, sizeof reason, "a step below minTimestep %.3g s was rejected: %s", model.min_dt,
+                      verdict_name(stepper.last_rejection()));
+      else if (finite)
         std::snprintf(reason, sizeof reason, "the mechanical energy rose by %.3g J, past the bound %.3g J",
                       energy_rise, energy_bound);
       else
         std::snprintf(reason, sizeof reason, "non-finite positions or velocities");
-      const std::string remedy = step_remedy(model, scene_stable_steps(model, x_start));
+      const Real failed_step = model.auto_step ? stepper.current_step(model) : model.dt;
+      const std::string remedy = step_remedy(model, scene_stable_steps(model, x_start), failed_step);
       std::fprintf(stderr,
                    "\nclothsim: error: frame %d, step %lld: the simulation diverged (%s); no frame from here on "
                    "was written. The step was %.3g s: %s.\n",
-                   frame, static_cast<long long>(state.step), reason, model.dt, remedy.c_str());
+                   frame, static_cast<long long>(state.step), reason, failed_step, remedy.c_str());
       stats.status = "diverged";
       status = exit_diverged;
       break;
     }
     stats.frames.push_back({frame, max_spring_strain(model, state.x), kinetic_energy(model, state.v), 0, {}, 0, {}, {}, {}});
+    stats.frames.back().steps = {steps.taken, steps.rejected, steps.smallest, steps.largest};
     if (model.collision.enabled && args.has("--stats")) add_collision_stats(model, state, ws, stats.frames.back());
     for (const Workspace::SolveRecord& r : ws.solve_log) {
       stats.frames.back().cg_iterations.push_back(r.cg_iterations);

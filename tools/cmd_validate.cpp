@@ -50,10 +50,16 @@ int cmd_validate(int argc, char** argv) {
   };
   std::printf("  stiffness %s, damping %s, thickness %s\n", form(m.spring_ke).c_str(), form(m.spring_kd).c_str(),
               form(m.particle_thickness).c_str());
-  // Stability limits of undamped springs (docs/stability.md): power iteration on M^-1 K at rest.
+  // Stability limits of the springs with their damping, air damping and wind (docs/stability.md): power
+  // iterations on M^-1 K and M^-1 C at rest.
   const StableSteps limits = scene_stable_steps(m, s.built.state.x);
-  std::printf("  omega_max %.6g rad/s; largest stable step: symplectic %.6g s, rk4 %.6g s, euler none, "
-              "implicit unlimited\n", limits.omega_max, limits.symplectic, limits.rk4);
+  char euler[32] = "none";
+  if (limits.euler > 0) std::snprintf(euler, sizeof euler, "%.6g s", limits.euler);
+  std::printf("  omega_max %.6g rad/s, damping rate up to %.6g 1/s; largest stable step: symplectic %.6g s, "
+              "rk4 %.6g s, euler %s, implicit unlimited\n", limits.omega_max, limits.gamma_max, limits.symplectic,
+              limits.rk4, euler);
+  if (m.auto_step)
+    std::printf("  timestep auto: %.6g s (stepSafety %g), at least %.6g s\n", m.dt, m.step_safety, m.min_dt);
   const std::string warning = step_warning(m, limits);
   if (!warning.empty()) std::printf("  %s\n", warning.c_str());
   print_setting_warnings(s.desc, m);

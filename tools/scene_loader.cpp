@@ -6,6 +6,7 @@
 #include "io/cloth_maps.h"
 #include "io/obj_reader.h"
 #include "io/scene_xml.h"
+#include "systems/adaptive_step.h"
 #include "tools/cpu_clock.h"
 
 namespace clothsim::cli {
@@ -24,6 +25,7 @@ LoadedScene load_scene(const std::string& path) {
   const double c1 = process_cpu_seconds();
   s.built = build_model(s.desc, std::move(meshes));  // consumed: a large mesh is not held twice
   build_collision(s.desc, colliders, s.built.state.x, s.built.model);
+  if (s.built.model.auto_step) choose_auto_step(s.built.model, s.built.state.x, path);
   s.load_seconds = std::chrono::duration<double>(t1 - t0).count();
   s.topology_seconds = std::chrono::duration<double>(clock::now() - t1).count();
   s.load_cpu_seconds = c1 - c0;

@@ -1,7 +1,10 @@
 #include "tools/step_advice.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+
+#include "systems/adaptive_step.h"
 
 namespace clothsim::cli {
 namespace {
@@ -12,36 +15,61 @@ std::string seconds(Real s) {
   return buf;
 }
 
+// The step to advise: auto's target, never above half a step that diverged.
+Real advised_step(const Model& m, const StableSteps& limits, Real diverged_step) {
+  Real advised = auto_step_target(m, limits);
+  if (diverged_step > 0) advised = std::min(advised, 0.5 * diverged_step);
+  return advised;
+}
+
 }  // namespace
 
 StableSteps scene_stable_steps(const Model& model, std::span<const Vec3> x_rest) {
-  return stable_steps(estimate_omega_max(model, x_rest));
+  return stable_steps(estimate_modes(model, x_rest));
 }
 
-std::string step_remedy(const Model& m, const StableSteps& limits) {
+std::string step_remedy(const Model& m, const StableSteps& limits, Real diverged_step) {
+  const std::string alternatives = ", timestep=\"auto\", or integrator=\"implicit\"";
+  const Real limit = stable_step_limit(limits, m.integrator);
   switch (m.integrator) {
     case Integrator::euler:
-      return "explicit Euler has no stable step for undamped springs: use integrator=\"symplectic\" with a time "
-             "step below " + seconds(0.5 * limits.symplectic) + ", or integrator=\"implicit\"";
+      if (!(limit > 0)) {
+        Model symplectic = m;
+        symplectic.integrator = Integrator::symplectic;
+        return "explicit Euler has no stable step for these springs (a stiff mode has no damping): use "
+               "integrator=\"symplectic\" with a time step below " + seconds(advised_step(symplectic, limits, 0)) +
+               ", or integrator=\"implicit\"";
+      }
+      [[fallthrough]];
     case Integrator::symplectic:
-    case Integrator::rk4:
-      return "use a time step below " + seconds(0.5 * stable_step_limit(limits, m.integrator)) +
-             " (half the limit " + seconds(stable_step_limit(limits, m.integrator)) + "), or integrator=\"implicit\"";
+    case Integrator::rk4: {
+      const Real advised = advised_step(m, limits, diverged_step);
+      char safety[32];
+      std::snprintf(safety, sizeof safety, "%g", m.step_safety);
+      return "use a time step below " + seconds(advised) +
+             (advised < auto_step_target(m, limits) ? " (half the step that diverged; the estimated limit is " +
+                                                          seconds(limit) + ")"
+                                                    : " (stepSafety " + std::string(safety) +
+                                                          " x the limit " + seconds(limit) +
+                                                          " for these springs and their damping)") +
+             alternatives;
+    }
     case Integrator::implicit:
       break;
   }
+  const Real step = diverged_step > 0 ? diverged_step : m.dt;
   return "backward Euler is stable at any step for springs; the linear solve failed: use a time step below " +
-         seconds(0.25 * m.dt) + " or a tighter cgTolerance";
+         seconds(0.25 * step) + ", timestep=\"auto\", or a tighter cgTolerance";
 }
 
 std::string step_warning(const Model& m, const StableSteps& limits) {
-  if (m.integrator == Integrator::implicit || limits.omega_max == 0) return "";
+  if (m.integrator == Integrator::implicit) return "";
   const Real limit = stable_step_limit(limits, m.integrator);
-  if (m.dt < limit) return "";
-  if (m.integrator == Integrator::euler) return "warning: " + step_remedy(m, limits);
-  const char* name = m.integrator == Integrator::symplectic ? "symplectic Euler" : "RK4";
-  return "warning: the step " + seconds(m.dt) + " exceeds the " + name + " limit " + seconds(limit) +
-         " for these springs; " + step_remedy(m, limits);
+  if (std::isinf(limit) || m.dt <= auto_step_target(m, limits)) return "";
+  const char* names[] = {"explicit Euler", "symplectic Euler", "RK4", ""};
+  return "warning: the step " + seconds(m.dt) + (m.dt >= limit ? " exceeds the " : " is close to the ") +
+         names[int(m.integrator)] + " limit " + seconds(limit) + " for these springs and their damping; " +
+         step_remedy(m, limits);
 }
 
 }  // namespace clothsim::cli

@@ -1,6 +1,6 @@
 #pragma once
 // What `validate` and `run` tell the user about the time step: the stability limits of the scene's springs and
-// the step to use instead when the scene's step is past its integrator's limit.
+// damping, and the step to use instead when the scene's step is past its integrator's limit or diverged.
 #include <span>
 #include <string>
 
@@ -9,15 +9,15 @@
 
 namespace clothsim::cli {
 
-// The limits for the scene at rest (power iteration: systems/stability.h).
+// The damped limits for the scene at rest (power iterations: systems/stability.h).
 StableSteps scene_stable_steps(const Model& model, std::span<const Vec3> x_rest);
 
-// One sentence naming the remedy: a step below a safe fraction of the integrator's limit, or the implicit
-// integrator. Safe step = half the limit: damping and large deflections (which stiffen the transverse
-// direction) move the real limit, and the linear limit is the edge of instability, not a comfortable margin.
-std::string step_remedy(const Model& model, const StableSteps& limits);
+// One sentence naming the remedy: a step below the advised one (stepSafety x the integrator's damped limit, the
+// step timestep="auto" aims for), timestep="auto", or the implicit integrator. diverged_step > 0 is a step that
+// has just diverged: the advice is then at most half of it, whatever the estimate says.
+std::string step_remedy(const Model& model, const StableSteps& limits, Real diverged_step = 0);
 
-// The validate warning for the scene's step, or "" when it is within its integrator's limit.
+// The validate warning for the scene's step, or "" when it is within the advised step.
 std::string step_warning(const Model& model, const StableSteps& limits);
 
 }  // namespace clothsim::cli

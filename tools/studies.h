@@ -8,5 +8,7 @@ int study_accuracy(int argc, char** argv);
 int study_stability(int argc, char** argv);
 // study scaling SCENE.xml --threads 1,2,4 [--weak]: speed-up and parallel efficiency (docs/performance.md, "Scaling").
 int study_scaling(int argc, char** argv);
+// study autostep [SCENE.xml ...] [--family N]: the automatic step against the largest stable one (bisection).
+int study_auto_step(int argc, char** argv);
 
 }  // namespace clothsim::cli

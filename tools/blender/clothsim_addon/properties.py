@@ -86,9 +86,9 @@ class ClothsimSceneSettings(bpy.types.PropertyGroup):
                ("rk4", "Runge-Kutta 4", "Classic fourth-order Runge-Kutta"),
                ("implicit", "Implicit (backward Euler)", "Baraff-Witkin backward Euler: stable at large steps")],
         description="<simulation integrator>")
-    timestep: FloatProperty(name="Time step", default=0.001, min=1e-9, soft_max=0.01, precision=6,
-                            description="Requested time step, s (<simulation timestep>); clothsim shortens it to "
-                                        "divide a frame evenly")
+    timestep: FloatProperty(name="Time step", default=0.0, min=0.0, soft_max=0.01, precision=6,
+                            description="Requested time step, s (<simulation timestep>), 0 for automatic "
+                                        "(timestep=\"auto\"); clothsim shortens it to divide a frame evenly")
     use_scene_range: BoolProperty(name="Scene frame range", default=True,
                                   description="Simulate the scene's frame range")
     frame_start: IntProperty(name="Start", default=1, min=0, description="<simulation startFrame>")

@@ -107,7 +107,7 @@ def _attrs(pairs) -> str:
 def format_scene(scene: SceneSpec) -> str:
     out = ['<?xml version="1.0"?>', "<!-- Written by the clothsim Blender add-on. -->", "<scene>"]
     out.append("  <simulation " + _attrs([
-        ("timestep", _num(scene.timestep)), ("fps", _num(scene.fps)),
+        ("timestep", _num(scene.timestep) if scene.timestep > 0 else "auto"), ("fps", _num(scene.fps)),
         ("startFrame", int(scene.start_frame)), ("endFrame", int(scene.end_frame)),
         ("integrator", scene.integrator), ("gravity", _vec(scene.gravity)),
         ("clothCollision", _bool(scene.cloth_collision))]) + "/>")

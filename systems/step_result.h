@@ -1,0 +1,13 @@
+#pragma once
+// What one step tells the frame loop besides the state it wrote.
+
+namespace clothsim {
+
+// failed: the step's state is not to be trusted although it may be finite (a linear solve stopped at its
+// iteration cap short of its tolerance). Any integrator or stage can set it; systems/adaptive_step.h rejects the
+// step and retries it smaller.
+struct StepResult {
+  bool failed = false;
+};
+
+}  // namespace clothsim
