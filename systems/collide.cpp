@@ -620,10 +620,11 @@ void resolve_impact_zones(const Model& m, const State& in, State& out, Collision
 
 }  // namespace
 
-void place_colliders(const Model& m, std::int64_t step, Real h, CollisionScratch& s) {
+void place_colliders(const Model& m, Real time, Real h, CollisionScratch& s) {
   const CollisionModel& c = m.collision;
   if (!c.animated) return;
-  // Frame number at a time from the step count (not the summed time), so every run lands on the same values.
+  // The step's own start time: with timestep="auto" the steps of a frame differ in length, so a step count
+  // times h would place the body at the wrong time.
   auto at = [&](const ColliderInfo& ci, Real t, std::vector<Vec3>& dst) {
     const Real local = std::clamp(m.start_frame + t * m.fps - ci.first_frame, Real(0), Real(ci.frame_count - 1));
     const int f0 = std::min(int(std::floor(local)), ci.frame_count - 1), f1 = std::min(f0 + 1, ci.frame_count - 1);
@@ -635,8 +636,8 @@ void place_colliders(const Model& m, std::int64_t step, Real h, CollisionScratch
   };
   for (const ColliderInfo& ci : c.colliders) {
     if (ci.shape != ColliderShape::sequence) continue;
-    at(ci, Real(step) * h, s.collider_x0);
-    at(ci, Real(step + 1) * h, s.collider_x1);
+    at(ci, time, s.collider_x0);
+    at(ci, time + h, s.collider_x1);
   }
 }
 
@@ -669,7 +670,7 @@ void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h)
   if (!c.enabled) return;
   const auto t0 = std::chrono::steady_clock::now();
   CollisionScratch& s = ws.collision;
-  place_colliders(m, in.step, h, s);
+  place_colliders(m, in.time, h, s);
   push_out_deep_vertices(m, in, out, s, h);
   const bool broad = !c.prim.empty();
   if (broad) build_broad_phase(m, in, out, s);

@@ -12,9 +12,9 @@ namespace clothsim {
 // The step from `in` (start) to `out` (integrated, changed in place) of length h.
 void collide(const Model& model, const State& in, State& out, Workspace& ws, Real h);
 
-// Collider mesh vertices at the start and end of the step that begins at step number `step` (animated
-// colliders interpolated linearly between their frames; static ones stay).
-void place_colliders(const Model& model, std::int64_t step, Real h, CollisionScratch& s);
+// Collider mesh vertices at the start and end of the step that begins at `time` (s since the start frame) and
+// lasts h (animated colliders interpolated linearly between their frames; static ones stay).
+void place_colliders(const Model& model, Real time, Real h, CollisionScratch& s);
 
 // Swept, thickness-inflated prim boxes and the query bounds, then the scene's broad phase.
 void build_broad_phase(const Model& model, const State& in, const State& out, CollisionScratch& s);

@@ -4,10 +4,10 @@
 
 namespace clothsim {
 
-void apply_external_forces(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::int64_t step,
+void apply_external_forces(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Real time,
                            std::span<const Vec3> normal, std::span<Vec3> f) {
   parallel_over(m.particle_count, particle_grain,
-                [&](Index i) { f[i] = external_acceleration(m, i, f[i], x[i], v[i], step, normal); });
+                [&](Index i) { f[i] = external_acceleration(m, i, f[i], x[i], v[i], time, normal); });
 }
 
 }  // namespace clothsim

@@ -12,7 +12,7 @@ namespace clothsim {
 
 // The force stage: springs, then external forces, leaving accelerations in ws.f. Every integrator stage calls
 // this on the whole system (springs couple particles, so none can be advanced alone).
-void eval_forces(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, std::int64_t step,
+void eval_forces(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, Real time,
                  Workspace& ws);
 
 // The force stage followed by an integrator's per-particle update: update(i) runs once per particle with the
@@ -21,11 +21,11 @@ void eval_forces(const Model& model, std::span<const Vec3> x, std::span<const Ve
 // that closes particle i, while x, v and f of its neighbourhood are in cache: one sweep over the particles
 // instead of three (springs, external forces, update). The bytes are those of eval_forces and a separate pass.
 template <class Update>
-void eval_forces_then(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::int64_t step,
+void eval_forces_then(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Real time,
                       Workspace& ws, Update&& update) {
   // Stitches add their forces after the springs, before any particle is final: no fused pass with them.
   if (m.spring_layout != SpringLayout::blocked || !m.fuse_particle_pass || m.stitch_count > 0) {
-    eval_forces(m, x, v, step, ws);
+    eval_forces(m, x, v, time, ws);
     parallel_over(m.particle_count, particle_grain, update);
     return;
   }
@@ -33,7 +33,7 @@ void eval_forces_then(const Model& m, std::span<const Vec3> x, std::span<const V
   if (m.needs_normals()) eval_normals(m, x, ws.normal);
   std::span<Vec3> f = ws.f;
   eval_springs_blocked_then(m, x, v, f, [&](Index i) {
-    f[i] = external_acceleration(m, i, f[i], x[i], v[i], step, ws.normal);
+    f[i] = external_acceleration(m, i, f[i], x[i], v[i], time, ws.normal);
     update(i);
   });
   ++ws.force_evaluations;

@@ -19,7 +19,7 @@ StepResult step(const Model& model, const State& in, State& out, Workspace& ws, 
   const double forces_before = ws.seconds_forces, collide_before = ws.seconds_collide;
   switch (model.integrator) {
     case Integrator::euler:
-      eval_forces(model, in.x, in.v, in.step, ws);
+      eval_forces(model, in.x, in.v, in.time, ws);
       integrate_euler(in.x, in.v, ws.f, h, out.x, out.v);
       break;
     case Integrator::symplectic:
