@@ -25,6 +25,12 @@ std::string step_remedy(const Model& m, const StableSteps& limits) {
              "step below " + seconds(0.5 * limits.symplectic) + ", or integrator=\"implicit\"";
     case Integrator::symplectic:
     case Integrator::rk4:
+      // Advice to take a step the run already takes would send the user in circles.
+      if (m.dt < 0.5 * stable_step_limit(limits, m.integrator))
+        return "the step is already below half the stability limit " +
+               seconds(stable_step_limit(limits, m.integrator)) +
+               ", so a smaller one will not help: look for another cause, such as a cloth starting inside a " +
+               "collider or crossing itself";
       return "use a time step below " + seconds(0.5 * stable_step_limit(limits, m.integrator)) +
              " (half the limit " + seconds(stable_step_limit(limits, m.integrator)) + "), or integrator=\"implicit\"";
     case Integrator::implicit:
