@@ -168,7 +168,7 @@ TEST_CASE("polygons are split into triangles with their count reported, a bad OB
   CHECK(g.output.find("garbage.obj:1") != std::string::npos);
 }
 
-TEST_CASE("a FIFO, a device or a folder as an input is refused at once, never read") {
+TEST_CASE("a FIFO or a device or a folder as an input is refused at once and never read") {
   const fs::path dir = scratch_dir("bad_special_inputs");
   REQUIRE(::mkfifo((dir / "fifo.obj").c_str(), 0600) == 0);
   REQUIRE(::mkfifo((dir / "fifo.xml").c_str(), 0600) == 0);
@@ -189,7 +189,7 @@ TEST_CASE("a FIFO, a device or a folder as an input is refused at once, never re
   CHECK_FALSE(fs::exists(dir / "out"));
 }
 
-TEST_CASE("a collider frame with a re-wound triangle is named as such, not by equal counts") {
+TEST_CASE("a collider frame with a re-wound triangle is named as such and not by equal counts") {
   const fs::path dir = scratch_dir("bad_rewound_collider");
   write_text(dir / "body.0001.obj", "v 0 -1 0\nv 1 -1 0\nv 0 -1 1\nv 1 -1 1\nf 1 2 3\nf 2 4 3\n");
   write_text(dir / "body.0002.obj", "v 0 -1 0\nv 1 -1 0\nv 0 -1 1\nv 1 -1 1\nf 1 2 3\nf 2 3 4\n");

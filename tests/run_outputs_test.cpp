@@ -52,7 +52,7 @@ TEST_CASE("--stats to a FIFO writes through it and leaves the FIFO in place") {
   CHECK(read_text(copy).find("\"frames_written\":2") != std::string::npos);
 }
 
-TEST_CASE("temporaries of a killed write are removed by the next run, those of a live process are kept") {
+TEST_CASE("temporaries of a killed write are removed by the next run and those of a live process kept") {
   const fs::path dir = scratch_dir("outputs_stale");
   write_text(dir / "scene.xml", small_scene);
   fs::create_directories(dir / "out");

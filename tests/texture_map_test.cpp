@@ -218,7 +218,7 @@ TEST_CASE("stb_image's other formats (GIF, PSD, PIC, PNM, HDR) are refused by th
   }
 }
 
-TEST_CASE("a PNG cut short after its header says it is truncated, not an empty reason") {
+TEST_CASE("a PNG cut short after its header says it is truncated instead of an empty reason") {
   const auto dir = scratch_dir("map_truncated");
   // A valid 8 x 8 PNG's header, then its IDAT cut to half its data (CRC made anew), and no IEND: stb_image
   // fails on it without a reason.
