@@ -154,6 +154,14 @@ void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& 
         ci.frame_offset = c.frame_x.size();
         c.animated = true;
         for (const MeshData& f : frames) {
+          if (f.vertex_count() == first.vertex_count() && f.triangle_count() == first.triangle_count() &&
+              f.tri_index != first.tri_index) {
+            const auto t = (std::mismatch(f.tri_index.begin(), f.tri_index.end(), first.tri_index.begin()).first -
+                            f.tri_index.begin()) / 3;
+            throw Error(f.source, "collider '" + d.name + "': triangle " + std::to_string(t + 1) +
+                                      " has other corners (or another winding) than in " + first.source +
+                                      "; expected every frame to have the same triangles, only moved vertices");
+          }
           if (f.vertex_count() != first.vertex_count() || f.tri_index != first.tri_index)
             throw Error(f.source, "collider '" + d.name + "': frame has " + std::to_string(f.vertex_count()) +
                                       " vertices and " + std::to_string(f.triangle_count()) + " triangles; expected " +

@@ -15,7 +15,7 @@ namespace clothsim::io {
 namespace {
 
 // Layout (native little-endian, 8-byte fields):
-//   "CLOTHCKP" | u32 version | u32 0 | u64 fingerprint | i64 frame | i64 step | f64 time | u64 n
+//   "CLOTHCKP" | u32 version | u32 first output frame | u64 fingerprint | i64 frame | i64 step | f64 time | u64 n
 //   | f64 x[3n] | f64 v[3n] | u64 hash64 of every byte before it
 static_assert(std::endian::native == std::endian::little, "checkpoints are stored little-endian");
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be three packed doubles");
@@ -45,8 +45,36 @@ std::uint64_t hash64(std::string_view bytes, std::uint64_t h) {
   return h;
 }
 
-std::uint64_t scene_fingerprint(std::string_view scene_text, const Model& model, std::span<const Vec3> x0) {
+namespace {
+
+template <class T>
+std::uint64_t hash_array(const std::vector<T>& v, std::uint64_t h) {
+  const std::uint64_t n = v.size();  // the length too: [1 2][3] and [1][2 3] differ
+  h = hash64(std::string_view(reinterpret_cast<const char*>(&n), sizeof n), h);
+  return hash64(std::string_view(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T)), h);
+}
+
+std::uint64_t hash_mesh(const MeshData& m, std::uint64_t h) {
+  h = hash_array(m.tri_uv, hash_array(m.tri_index, hash_array(m.uvs, hash_array(m.positions, h))));
+  h = hash_array(m.stitch_w, hash_array(m.stitch_c, hash_array(m.stitch_b, hash_array(m.stitch_a, h))));
+  const VertexParams& p = m.params;
+  return hash_array(p.pinned, hash_array(p.thickness, hash_array(p.damping, hash_array(p.stiffness,
+         hash_array(p.mass, hash_array(p.density, h))))));
+}
+
+}  // namespace
+
+std::uint64_t inputs_fingerprint(std::string_view scene_text, std::span<const MeshData> cloths,
+                                 std::span<const ColliderMeshes> colliders) {
   std::uint64_t h = hash64(scene_text);
+  for (const MeshData& m : cloths) h = hash_mesh(m, h);
+  for (const ColliderMeshes& c : colliders)
+    for (const MeshData& m : c.frames) h = hash_mesh(m, h);
+  return h;
+}
+
+std::uint64_t scene_fingerprint(std::uint64_t inputs, const Model& model, std::span<const Vec3> x0) {
+  std::uint64_t h = hash64(std::string_view(reinterpret_cast<const char*>(&inputs), sizeof inputs));
   h = hash64(std::string_view(reinterpret_cast<const char*>(x0.data()), x0.size_bytes()), h);
   return hash64(std::string_view(reinterpret_cast<const char*>(&model.dt), sizeof model.dt), h);
 }
@@ -57,7 +85,7 @@ std::string encode_checkpoint(const Checkpoint& c) {
   out.reserve(header_bytes + 2 * n * sizeof(Vec3) + 8);
   out.append(magic, sizeof magic);
   put(out, checkpoint_version);
-  put(out, std::uint32_t{0});
+  put(out, std::uint32_t(c.first_output));
   put(out, c.fingerprint);
   put(out, std::int64_t{c.frame});
   put(out, std::int64_t{c.state.step});
@@ -77,7 +105,7 @@ Checkpoint decode_checkpoint(const std::string& path, std::string_view bytes) {
   if (version != checkpoint_version)
     throw Error(path, "checkpoint format version " + std::to_string(version) + "; expected version " +
                           std::to_string(checkpoint_version));
-  get<std::uint32_t>(bytes, pos);
+  const auto first_output = get<std::uint32_t>(bytes, pos);
   Checkpoint c;
   c.fingerprint = get<std::uint64_t>(bytes, pos);
   const auto frame = get<std::int64_t>(bytes, pos);
@@ -95,6 +123,8 @@ Checkpoint decode_checkpoint(const std::string& path, std::string_view bytes) {
     throw Error(path, "checkpoint checksum mismatch (the file is corrupted); expected an intact checkpoint");
   if (frame < 0 || frame > 1000000) throw Error(path, "checkpoint frame out of range");
   c.frame = static_cast<int>(frame);
+  if (first_output > std::uint32_t(frame)) throw Error(path, "checkpoint's first written frame is after its frame");
+  c.first_output = static_cast<int>(first_output);
   c.state.x.resize(n);
   c.state.v.resize(n);
   std::memcpy(static_cast<void*>(c.state.x.data()), bytes.data() + pos, n * sizeof(Vec3));
@@ -145,7 +175,7 @@ void remove_checkpoints_after(const std::string& dir, const std::string& stem, i
 }
 
 std::optional<Checkpoint> find_latest_checkpoint(const std::string& dir, const std::string& stem,
-                                                 std::uint64_t fingerprint, Index particle_count,
+                                                 std::uint64_t fingerprint, Index particle_count, int first_output,
                                                  std::vector<std::string>& warnings) {
   for (const int frame : checkpoint_frames(dir, stem)) {
     const std::string path = checkpoint_path(dir, stem, frame);
@@ -154,6 +184,11 @@ std::optional<Checkpoint> find_latest_checkpoint(const std::string& dir, const s
       if (c.fingerprint != fingerprint || c.state.x.size() != std::size_t(particle_count))
         throw Error(path, "checkpoint belongs to another scene (the scene file or its meshes changed)");
       if (c.frame != frame) throw Error(path, "checkpoint holds frame " + std::to_string(c.frame));
+      // Frames before the checkpoint's run began writing were never written (run --frames A:B).
+      if (c.first_output > first_output)
+        throw Error(path, "checkpoint's run wrote frames " + std::to_string(c.first_output) + ".." +
+                              std::to_string(c.frame) + " only; this run needs frames from " +
+                              std::to_string(first_output));
       return c;
     } catch (const Error& e) {
       warnings.push_back(std::string(e.what()) + "; skipped");

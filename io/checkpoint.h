@@ -11,24 +11,32 @@
 #include <string_view>
 #include <vector>
 
+#include "core/build_collision.h"
+#include "core/mesh_data.h"
 #include "core/model.h"
 
 namespace clothsim::io {
 
-inline constexpr std::uint32_t checkpoint_version = 1;
+inline constexpr std::uint32_t checkpoint_version = 2;
 
 struct Checkpoint {
   std::uint64_t fingerprint = 0;  // of the scene (see scene_fingerprint): a checkpoint of another scene is refused
   int frame = 0;                  // last frame whose output was written before this checkpoint
+  int first_output = 0;           // first frame the run wrote: the checkpoint vouches for frames first_output..frame
   State state;
 };
 
 // FNV-1a, 64-bit: catches truncation and any flipped byte with probability 1 - 2^-64; not cryptographic.
 std::uint64_t hash64(std::string_view bytes, std::uint64_t h = 0xcbf29ce484222325ULL);
 
-// Fingerprint of what a run depends on: the scene file's text and the built model's initial positions (which
-// cover the meshes and transforms), plus the step size.
-std::uint64_t scene_fingerprint(std::string_view scene_text, const Model& model, std::span<const Vec3> x0);
+// Fingerprint of every input's content as read: the scene file's text, each cloth mesh (positions, UVs,
+// triangles and the parameters sampled from its maps) and each collider mesh frame.
+std::uint64_t inputs_fingerprint(std::string_view scene_text, std::span<const MeshData> cloths,
+                                 std::span<const ColliderMeshes> colliders);
+
+// Fingerprint of what a run depends on: its inputs (inputs_fingerprint), the built model's initial positions
+// (which cover the transforms) and the step size.
+std::uint64_t scene_fingerprint(std::uint64_t inputs, const Model& model, std::span<const Vec3> x0);
 
 std::string encode_checkpoint(const Checkpoint& c);
 // Throws Error(path, ...) naming what is wrong: magic, version, size, checksum.
@@ -44,10 +52,11 @@ void write_checkpoint(const std::string& dir, const std::string& stem, const Che
 // Deletes the checkpoints of `stem` after `frame`: a run starting (or resuming) there replaces them.
 void remove_checkpoints_after(const std::string& dir, const std::string& stem, int frame);
 
-// The newest checkpoint of `stem` in `dir` that decodes, matches `fingerprint` and `particle_count`; each
-// newer one that does not is reported through `warn` (one line each) and skipped. nullopt when none is valid.
+// The newest checkpoint of `stem` in `dir` that decodes, matches `fingerprint` and `particle_count` and whose
+// run wrote every frame from `first_output` on; each newer one that does not is reported through `warnings`
+// (one line each) and skipped. nullopt when none is valid.
 std::optional<Checkpoint> find_latest_checkpoint(const std::string& dir, const std::string& stem,
-                                                 std::uint64_t fingerprint, Index particle_count,
+                                                 std::uint64_t fingerprint, Index particle_count, int first_output,
                                                  std::vector<std::string>& warnings);
 
 }  // namespace clothsim::io

@@ -40,6 +40,40 @@ void check_face_size(const std::string& path, int line_no, std::string_view line
                                    " triangles; expected at most that many (the limit of one mesh, docs/errors.md)");
 }
 
+// tinyobjloader reads a face index with atoi-like code that wraps modulo 2^32 and stops at the first non-digit
+// ("3abc", "3.7" and "3/abc" read as 3), so every corner of an f line is checked here as strictly as v lines:
+// v, v/vt, v//vn or v/vt/vn (OBJ spec, "Vertex/texture-coordinate/normal"), each a non-zero 32-bit integer.
+void check_face_tokens(const std::string& path, int line_no, std::string_view line) {
+  const auto fail = [&](std::string_view token, const std::string& what) {
+    throw Error(path, line_no, "face corner '" + std::string(token) + "': " + what);
+  };
+  std::size_t p = 1;
+  while (p < line.size()) {
+    while (p < line.size() && (line[p] == ' ' || line[p] == '\t')) ++p;
+    if (p >= line.size()) break;
+    std::size_t e = p;
+    while (e < line.size() && line[e] != ' ' && line[e] != '\t') ++e;
+    const std::string_view token = line.substr(p, e - p);
+    p = e;
+    if (token[0] == '#') fail(token, "a comment after a face; expected comments on lines of their own");
+    if (token == "\\") fail(token, "a line continuation; expected the whole face on one line");
+    int parts = 0;
+    for (std::size_t b = 0; b <= token.size(); ++parts) {
+      const std::size_t slash = std::min(token.find('/', b), token.size());
+      const std::string_view part = token.substr(b, slash - b);
+      b = slash + 1;
+      if (parts >= 3) fail(token, "more than three indices; expected v, v/vt, v//vn or v/vt/vn");
+      if (part.empty() && parts == 1 && slash < token.size()) continue;  // v//vn: no texture coordinate
+      int value = 0;
+      const char* first = part.data() + (!part.empty() && part[0] == '+');
+      const auto [end, ec] = std::from_chars(first, part.data() + part.size(), value);
+      if (part.empty() || ec != std::errc() || end != part.data() + part.size() || value == 0)
+        fail(token, "bad index '" + std::string(part) + "'; expected a non-zero integer within +-2147483647 " +
+                        "(v, v/vt, v//vn or v/vt/vn)");
+    }
+  }
+}
+
 // tinyobjloader reads "nan", "inf" and garbage as 0 without a word, so the coordinates of every v and vt line
 // are checked here first (std::from_chars: fast, locale-free), and the line of every face is remembered for
 // the messages that need it.
@@ -59,6 +93,7 @@ void check_numbers(const std::string& path, const std::string& text, std::vector
     const bool is_v = starts_with_tag(line, "v"), is_vt = starts_with_tag(line, "vt");
     if (starts_with_tag(line, "f")) {
       face_lines.push_back(line_no);
+      check_face_tokens(path, line_no, line);
       check_face_size(path, line_no, line, triangles);
     }
     if (is_v && ++vertices > limits::max_mesh_vertices)
@@ -76,10 +111,10 @@ void check_numbers(const std::string& path, const std::string& text, std::vector
       if (*p == '+') ++p;
       auto [next, ec] = std::from_chars(p, e, value);
       const bool separated = next == e || *next == ' ' || *next == '\t';
-      if (ec != std::errc() || !separated || !std::isfinite(value))
+      if (ec != std::errc() || !separated || !(std::abs(value) <= limits::max_scene_number))
         throw Error(path, line_no,
                     "bad coordinate '" + std::string(p, std::find_if(p, e, [](char c) { return c == ' ' || c == '\t'; })) +
-                        "'; expected a finite number");
+                        "'; expected a finite number of magnitude at most 1e12");
       p = next;
       ++got;
     }

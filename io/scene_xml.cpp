@@ -11,6 +11,8 @@
 
 #include "core/error.h"
 #include "core/limits.h"
+#include "core/step_count.h"
+#include "io/atomic_file.h"
 #include "io/text_file.h"
 
 namespace clothsim::io {
@@ -23,8 +25,14 @@ class ElementReader {
                 std::initializer_list<const char*> allowed)
       : file_(file), node_(node), line_(line_of(text, node.offset_debug())) {
     const std::set<std::string> ok(allowed.begin(), allowed.end());
-    for (pugi::xml_attribute a : node.attributes())
-      if (!ok.count(a.name())) fail("unknown attribute '" + std::string(a.name()) + "'; expected one of: " + join(allowed));
+    std::set<std::string> seen;
+    for (pugi::xml_attribute a : node.attributes()) {
+      if (!ok.count(a.name()))
+        fail("unknown attribute '" + std::string(a.name()) + "'; " +
+             (allowed.size() ? "expected one of: " + join(allowed) : std::string("expected no attributes")));
+      // pugixml keeps both copies of a repeated attribute and node.attribute() finds the first.
+      if (!seen.insert(a.name()).second) fail("attribute '" + std::string(a.name()) + "' appears twice; expected it once");
+    }
   }
 
   // An element that should not be there at all: reported before (and instead of) its attributes.
@@ -47,6 +55,17 @@ class ElementReader {
   std::string text(const char* name, std::string fallback = "") const {
     pugi::xml_attribute a = node_.attribute(name);
     return a ? std::string(a.value()) : fallback;
+  }
+
+  // A name or path that ends up inside an output file (an OBJ's 'o' line, a .mtl): a control character such as
+  // a newline (&#10;) would start a line of its own there.
+  std::string name_text(const char* name, std::string fallback = "") const {
+    std::string v = text(name, std::move(fallback));
+    const auto c = std::find_if(v.begin(), v.end(), [](char ch) { return (unsigned char)ch < 0x20 || ch == 0x7f; });
+    if (c != v.end())  // the value itself is not echoed: its newline would split the message
+      fail("attribute " + std::string(name) + " holds control character " + std::to_string(int(*c)) + " at position " +
+           std::to_string(c - v.begin() + 1) + "; expected a name without control characters (newline, tab, ...)");
+    return v;
   }
 
   Real number(const char* name, Real fallback, const char* expected = "a number") const {
@@ -124,6 +143,7 @@ class ElementReader {
       const char* b = tok.data() + (tok[0] == '+' ? 1 : 0);
       auto [p, ec] = std::from_chars(b, tok.data() + tok.size(), v);
       if (ec != std::errc() || p != tok.data() + tok.size() || !std::isfinite(v)) bad(name, expected);
+      if (std::abs(v) > limits::max_scene_number) bad(name, std::string(expected) + ", of magnitude at most 1e12");
       out.push_back(v);
     }
     if ((count > 0 && out.size() != count) || out.empty()) bad(name, expected);
@@ -164,6 +184,14 @@ void read_param(const ElementReader& r, const std::string& base, Real& value, Pa
   map.line = r.line();
 }
 
+// The step count a frame needs, 1/(fps * timestep), must stay within the documented limit (core/limits.h).
+void check_steps_per_frame(const ElementReader& r, const SimulationDesc& sim) {
+  if (steps_per_frame_count(sim.fps, sim.timestep) > limits::max_steps_per_frame)
+    r.fail("timestep=\"" + r.text("timestep", std::to_string(sim.timestep)) + "\" at fps=\"" +
+           r.text("fps", std::to_string(sim.fps)) + "\" needs more than " +
+           std::to_string(limits::max_steps_per_frame) + " steps a frame; expected 1/(fps * timestep) at most that");
+}
+
 void read_simulation(const std::string& file, const std::string& text, pugi::xml_node n, SimulationDesc& sim) {
   ElementReader r(file, text, n,
                   {"timestep", "fps", "startFrame", "endFrame", "integrator", "gravity", "collisionIterations",
@@ -176,6 +204,7 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
   if (sim.step_safety > 1) r.bad("stepSafety", "a number in (0, 1] (fraction of the estimated stable step)");
   if (r.has("minTimestep")) sim.min_timestep = r.positive("minTimestep", sim.min_timestep, "s");
   sim.fps = r.positive("fps", sim.fps, "frames per second");
+  check_steps_per_frame(r, sim);
   sim.start_frame = r.integer("startFrame", sim.start_frame);
   sim.end_frame = r.integer("endFrame", sim.end_frame);
   if (sim.start_frame < 0) r.bad("startFrame", "a frame number >= 0");
@@ -218,9 +247,11 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
 
 void read_forces(const std::string& file, const std::string& text, pugi::xml_node n, ForcesDesc& f) {
   ElementReader(file, text, n, {});
+  std::set<std::string> seen;
   for (pugi::xml_node c : n.children()) {
     if (c.type() != pugi::node_element) continue;
     const std::string name = c.name();
+    if (!seen.insert(name).second) ElementReader::unknown_element(file, text, c, "appears twice in <forces>; expected it once");
     if (name == "external") {
       ElementReader r(file, text, c, {"acceleration"});
       f.external_acceleration = r.vec3("acceleration", f.external_acceleration);
@@ -275,7 +306,7 @@ void read_collider(const std::string& file, const std::string& text, const std::
   };
   const ElementReader r = reader();
   c.line = r.line();
-  c.name = r.text("name", kind + std::to_string(index));
+  c.name = r.name_text("name", kind + std::to_string(index));
   c.friction = r.non_negative("friction", c.friction, "Coulomb coefficient");
   read_transform(r, c.transform);
   if (kind == "static") {
@@ -321,7 +352,7 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
                   {"name", "obj", "grid", "size", "saveDir", "saveName", "texture", "translate", "rotate", "scale",
                    "friction", "restitution", "selfCollision", "clothCollision", "maxStrain", "weld", "sewSpeed"});
   c.line = r.line();
-  c.name = r.text("name", "cloth" + std::to_string(index));
+  c.name = r.name_text("name", "cloth" + std::to_string(index));
   if (r.has("obj") == r.has("grid")) r.fail("expected exactly one of obj=\"mesh.obj\" or grid=\"NX NY\"");
   if (r.has("obj")) {
     c.obj = resolve(base, r.text("obj"));
@@ -340,11 +371,12 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
       c.grid_h = s[1];
     }
   }
-  c.save_dir = resolve(base, r.text("saveDir", "out"));
-  c.save_name = r.text("saveName", c.name);
+  if (r.has("saveDir") && r.text("saveDir").empty()) r.bad("saveDir", "a folder path");
+  c.save_dir = resolve(base, r.name_text("saveDir", "out"));
+  c.save_name = r.name_text("saveName", c.name);
   if (c.save_name.empty() || c.save_name.find('/') != std::string::npos)
     r.bad("saveName", "a file name without '/'");
-  c.texture = resolve(base, r.text("texture"));
+  c.texture = resolve(base, r.name_text("texture"));
   read_transform(r, c.transform);
   c.friction = r.non_negative("friction", c.friction, "Coulomb coefficient");
   c.restitution = r.non_negative("restitution", c.restitution, "0..1");
@@ -356,9 +388,12 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
   c.sew_speed = r.positive("sewSpeed", c.sew_speed, "m/s");
 
   bool has_density = false;
+  std::set<std::string> seen;
   for (pugi::xml_node p : n.children()) {
     if (p.type() != pugi::node_element) continue;
     const std::string name = p.name();
+    if (name != "pins" && !seen.insert(name).second)
+      ElementReader::unknown_element(file, text, p, "appears twice in <cloth>; expected it once");
     if (name == "density") {
       ElementReader s(file, text, p, {"value", "min", "max", "map"});
       if (c.mass_per_vertex) s.fail("expected one of <density> or <mass>, not both");
@@ -406,8 +441,9 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
 
 }  // namespace
 
-SceneDesc read_scene(const std::string& path) {
-  const std::string text = read_text_file(path, "a scene XML file");
+SceneDesc read_scene(const std::string& path) { return parse_scene(path, read_text_file(path, "a scene XML file")); }
+
+SceneDesc parse_scene(const std::string& path, const std::string& text) {
   pugi::xml_document doc;
   const pugi::xml_parse_result res = doc.load_buffer(text.data(), text.size(), pugi::parse_default);
   if (!res)
@@ -416,20 +452,26 @@ SceneDesc read_scene(const std::string& path) {
   pugi::xml_node root = doc.document_element();
   if (std::string(root.name()) != "scene")
     ElementReader::unknown_element(path, text, root, "unknown root element; expected <scene>");
+  // pugixml reads elements after the root as further roots; XML allows one.
+  for (pugi::xml_node n = root.next_sibling(); n; n = n.next_sibling())
+    if (n.type() == pugi::node_element)
+      ElementReader::unknown_element(path, text, n, "a second root element; expected one <scene> document");
 
   SceneDesc scene;
   scene.path = path;
   scene.base_dir = std::filesystem::path(path).parent_path().string();
   ElementReader(path, text, root, {});
-  bool have_simulation = false;
+  bool have_simulation = false, have_forces = false;
   for (pugi::xml_node n : root.children()) {
     if (n.type() != pugi::node_element) continue;
     const std::string name = n.name();
     if (name == "simulation") {
-      if (have_simulation) ElementReader(path, text, n, {}).fail("appears twice; expected one <simulation>");
+      if (have_simulation) ElementReader::unknown_element(path, text, n, "appears twice; expected one <simulation>");
       have_simulation = true;
       read_simulation(path, text, n, scene.simulation);
     } else if (name == "forces") {
+      if (have_forces) ElementReader::unknown_element(path, text, n, "appears twice; expected one <forces>");
+      have_forces = true;
       read_forces(path, text, n, scene.forces);
     } else if (name == "cloth") {
       scene.cloths.emplace_back();
@@ -446,7 +488,7 @@ SceneDesc read_scene(const std::string& path) {
   if (scene.cloths.empty()) throw Error(path, "no <cloth> element; expected at least one cloth");
   std::set<std::string> outputs;
   for (const ClothDesc& c : scene.cloths)
-    if (!outputs.insert(c.save_dir + "/" + c.save_name).second)
+    if (!outputs.insert(normalised_path(c.save_dir + "/" + c.save_name)).second)
       throw Error(path, c.line, "cloth '" + c.name + "' writes to the same files as another (saveDir + saveName); "
                                 "expected distinct output names");
   return scene;

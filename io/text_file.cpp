@@ -1,10 +1,11 @@
 #include "io/text_file.h"
 
+#include <sys/stat.h>
+
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include <zlib.h>
 
@@ -14,6 +15,22 @@
 namespace clothsim::io {
 
 namespace {
+
+// A folder, FIFO or device is refused before it is opened: opening a FIFO with no writer blocks for ever and
+// /dev/zero never ends, and the size limit can only be checked on a regular file (stat(2)).
+void require_regular_file(const std::string& path, const std::string& what) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    throw Error(path, std::string("cannot read file (") + std::strerror(errno) + "); expected " + what);
+  if (S_ISREG(st.st_mode)) return;
+  const char* kind = S_ISDIR(st.st_mode)    ? "a folder"
+                     : S_ISFIFO(st.st_mode) ? "a FIFO (named pipe)"
+                     : S_ISCHR(st.st_mode)  ? "a character device"
+                     : S_ISBLK(st.st_mode)  ? "a block device"
+                     : S_ISSOCK(st.st_mode) ? "a socket"
+                                            : "not a regular file";
+  throw Error(path, std::string("is ") + kind + ", not a regular file; expected " + what);
+}
 
 bool gzip_name(const std::string& path) { return path.size() > 3 && path.compare(path.size() - 3, 3, ".gz") == 0; }
 
@@ -47,27 +64,23 @@ std::string read_gzip_file(const std::string& path, const std::string& what) {
 }  // namespace
 
 std::string read_text_file(const std::string& path, const std::string& what) {
+  require_regular_file(path, what);
   if (gzip_name(path)) return read_gzip_file(path, what);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path, std::string("cannot read file (") + std::strerror(errno) + "); expected " + what);
-  // The size is checked before the file is read into memory; a folder or a pipe reports no size and is read.
+  // The size is checked before the file is read into memory.
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
   if (!ec && size > limits::max_input_file_bytes)
     throw Error(path, "file of " + std::to_string(size) + " bytes; expected at most " +
                           std::to_string(limits::max_input_file_bytes) + " (docs/errors.md)");
-  // A regular file is read straight into a string of its size: a stream copy would grow by doubling and hold a
-  // large mesh's text up to three times over.
-  if (!ec) {
-    std::string text(size, '\0');
-    in.read(text.data(), std::streamsize(size));
-    if (in.bad() || std::size_t(in.gcount()) != size) throw Error(path, "read failed; expected " + what);
-    return text;
-  }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw Error(path, "read failed; expected " + what);
-  return std::move(ss).str();
+  if (ec) throw Error(path, "cannot read file (" + ec.message() + "); expected " + what);
+  // Read straight into a string of the file's size: a stream copy would grow by doubling and hold a large
+  // mesh's text up to three times over.
+  std::string text(size, '\0');
+  in.read(text.data(), std::streamsize(size));
+  if (in.bad() || std::size_t(in.gcount()) != size) throw Error(path, "read failed; expected " + what);
+  return text;
 }
 
 }  // namespace clothsim::io

@@ -85,6 +85,13 @@ std::string png_chunk_past_end(const std::string& b) {
   return "";
 }
 
+// stb_image's reason for a failed decode; some of its paths leave it empty (a PNG cut short inside its
+// compressed data), and an empty pair of brackets tells the user nothing.
+std::string decode_failure() {
+  const char* why = stbi_failure_reason();
+  return why && *why ? std::string(why) + ": the file is truncated or corrupt" : "the file is truncated or corrupt";
+}
+
 }  // namespace
 
 GreyImage read_grey_image(const std::string& path) {
@@ -109,7 +116,7 @@ GreyImage read_grey_image(const std::string& path) {
   GreyImage img;
   int channels = 0;
   if (!stbi_info_from_memory(data, size, &img.width, &img.height, &channels))
-    throw Error(path, std::string("cannot decode the image (") + stbi_failure_reason() + ")" + expected);
+    throw Error(path, "cannot decode the image (" + decode_failure() + ")" + expected);
   if (std::int64_t(img.width) * img.height > limits::max_image_pixels)
     throw Error(path, "image of " + std::to_string(img.width) + " x " + std::to_string(img.height) +
                           " pixels; expected at most " + std::to_string(limits::max_image_pixels) +
@@ -126,7 +133,7 @@ GreyImage read_grey_image(const std::string& path) {
   img.bits = stbi_is_16_bit_from_memory(data, size) ? 16 : 8;
   void* pixels = img.bits == 16 ? static_cast<void*>(stbi_load_16_from_memory(data, size, &img.width, &img.height, &channels, 0))
                                 : static_cast<void*>(stbi_load_from_memory(data, size, &img.width, &img.height, &channels, 0));
-  if (!pixels) throw Error(path, std::string("cannot decode the image (") + stbi_failure_reason() + ")" + expected);
+  if (!pixels) throw Error(path, "cannot decode the image (" + decode_failure() + ")" + expected);
   std::unique_ptr<void, void (*)(void*)> owner(pixels, stbi_image_free);
   if (img.width <= 0 || img.height <= 0) throw Error(path, "image has no pixels" + expected);
 

@@ -97,3 +97,34 @@ TEST_CASE("a batch of good scenes from a folder exits 0 and a bad list exits 2")
   CHECK(empty.exit_code == 2);
   CHECK(empty.output.find("no scene listed") != std::string::npos);
 }
+
+TEST_CASE("a batch list entry whose name is too long fails alone and the scenes after it run") {
+  const fs::path dir = scratch_dir("batch_long_name");
+  write_text(dir / "good.xml", grid_scene("", ""));
+  write_text(dir / "list.txt", std::string(300, 'n') + ".xml\n" + std::string(1 << 20, 'm') + "\ngood.xml\n");
+  const CliResult r = run_cli("batch " + (dir / "list.txt").string() + " --quiet --out " + (dir / "out").string());
+  CAPTURE(r.output.substr(0, 2000));
+  CHECK(r.exit_code == 1);  // some scene failed; not 134 (an uncaught exception)
+  const std::string summary = read_text(dir / "out" / "summary.json");
+  CHECK(summary.find("\"failed\":2") != std::string::npos);
+  CHECK(summary.find("File name too long") != std::string::npos);
+  CHECK(fs::exists(dir / "out" / "good" / "c.0006.obj"));
+}
+
+TEST_CASE("a re-run batch does not take one scene's output for another's after the list is reordered") {
+  const fs::path dir = scratch_dir("batch_reorder");
+  fs::create_directories(dir / "sub");
+  write_text(dir / "a.xml", grid_scene("", ""));
+  write_text(dir / "sub" / "a.xml", grid_scene(" gravity=\"0 -1 0\"", ""));
+  const std::string batch = "batch " + (dir / "list.txt").string() + " --quiet --out " + (dir / "out").string();
+  write_text(dir / "list.txt", "a.xml\nsub/a.xml\n");
+  REQUIRE(run_cli(batch).exit_code == 0);
+  const std::string top = read_text(dir / "out" / "a" / "c.0006.obj"), sub = read_text(dir / "out" / "a-2" / "c.0006.obj");
+  REQUIRE(top != sub);
+  write_text(dir / "list.txt", "sub/a.xml\na.xml\n");  // now sub/a.xml is named a, and a.xml a-2
+  const CliResult again = run_cli(batch);
+  CHECK(again.exit_code == 0);
+  CHECK(read_text(dir / "out" / "summary.json").find("\"status\":\"complete\"") == std::string::npos);
+  CHECK(read_text(dir / "out" / "a" / "c.0006.obj") == sub);
+  CHECK(read_text(dir / "out" / "a-2" / "c.0006.obj") == top);
+}

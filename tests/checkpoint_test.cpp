@@ -79,7 +79,7 @@ TEST_CASE("the newest valid checkpoint is found and a corrupted newer one is ski
   CHECK(test::files_in(dir) == std::vector<std::string>{"scene.0006.ckpt", "scene.0009.ckpt"});
 
   std::vector<std::string> warnings;
-  auto c = io::find_latest_checkpoint(dir, "scene", 0x1234abcd5678ef90ULL, 4, warnings);
+  auto c = io::find_latest_checkpoint(dir, "scene", 0x1234abcd5678ef90ULL, 4, 0, warnings);
   REQUIRE(c);
   CHECK(c->frame == 9);
   CHECK(warnings.empty());
@@ -89,7 +89,7 @@ TEST_CASE("the newest valid checkpoint is found and a corrupted newer one is ski
   std::string bytes = test::read_text(newest);
   bytes[bytes.size() / 2] = char(bytes[bytes.size() / 2] ^ 1);
   test::write_text(newest, bytes);
-  c = io::find_latest_checkpoint(dir, "scene", 0x1234abcd5678ef90ULL, 4, warnings);
+  c = io::find_latest_checkpoint(dir, "scene", 0x1234abcd5678ef90ULL, 4, 0, warnings);
   REQUIRE(c);
   CHECK(c->frame == 6);
   REQUIRE(warnings.size() == 1);
@@ -98,10 +98,10 @@ TEST_CASE("the newest valid checkpoint is found and a corrupted newer one is ski
 
   // Another scene's fingerprint or particle count: nothing valid.
   warnings.clear();
-  CHECK_FALSE(io::find_latest_checkpoint(dir, "scene", 42, 4, warnings));
+  CHECK_FALSE(io::find_latest_checkpoint(dir, "scene", 42, 4, 0, warnings));
   CHECK(warnings.size() == 2);
   warnings.clear();
-  CHECK_FALSE(io::find_latest_checkpoint(dir, "scene", 0x1234abcd5678ef90ULL, 5, warnings));
+  CHECK_FALSE(io::find_latest_checkpoint(dir, "scene", 0x1234abcd5678ef90ULL, 5, 0, warnings));
 
   io::remove_checkpoints_after(dir, "scene", 6);
   CHECK(test::files_in(dir) == std::vector<std::string>{"scene.0006.ckpt"});

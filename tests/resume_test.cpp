@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "cli_harness.h"
+#include "png_fixtures.h"
 #include "shell_command.h"
 
 using namespace clothsim::test;
@@ -204,4 +205,45 @@ TEST_CASE("a write refused by a file-size limit stops the run with exit code 2 a
   const auto written = files_in(dir / "out");
   CHECK(written == std::vector<std::string>{"sheet.0001.obj"});
   CHECK(read_text(dir / "out" / "sheet.0001.obj") == read_text(dir / "ref" / "sheet.0001.obj"));
+}
+
+TEST_CASE("--resume uses only a checkpoint whose run wrote every frame the resumed run needs") {
+  const fs::path dir = scratch_dir("resume_coverage");
+  write_text(dir / "scene.xml",
+             "<scene><simulation timestep=\"0.001\" fps=\"25\" startFrame=\"1\" endFrame=\"20\"/>"
+             "<cloth grid=\"3 3\" saveDir=\"out\" saveName=\"c\"><pins vertices=\"0\"/></cloth></scene>\n");
+  const std::string run = "run " + (dir / "scene.xml").string() + " --checkpoint-every 4";
+  REQUIRE(run_cli(run + " --frames 15:20").exit_code == 0);
+  REQUIRE(obj_files(dir / "out").size() == 6);
+  const CliResult resumed = run_cli(run + " --resume");
+  CHECK(resumed.exit_code == 0);
+  CHECK(resumed.output.find("wrote frames 15..20 only; this run needs frames from 1") != std::string::npos);
+  CHECK(obj_files(dir / "out").size() == 20);  // frames 1..14 were computed, not skipped
+  // A run resumed from a checkpoint of a whole run vouches for every frame since: a later resume uses it.
+  const CliResult again = run_cli(run + " --resume");
+  CHECK(again.output.find("resuming after frame 20") != std::string::npos);
+}
+
+TEST_CASE("--resume refuses a checkpoint once a parameter map or a collider mesh changed") {
+  const fs::path dir = scratch_dir("resume_inputs");
+  write_text(dir / "map.png", encode_png(2, 2, 1, 8, {0, 255, 255, 0}));
+  write_text(dir / "body.obj", "v -1 -1 -1\nv 1 -1 -1\nv 0 -1 1\nf 1 2 3\n");
+  write_text(dir / "scene.xml",
+             "<scene><simulation timestep=\"0.001\" fps=\"25\" startFrame=\"1\" endFrame=\"2\"/>"
+             "<static obj=\"body.obj\"/>"
+             "<cloth grid=\"3 3\" saveDir=\"out\" saveName=\"c\"><pins vertices=\"0\"/>"
+             "<stiffness min=\"10\" max=\"20\" map=\"map.png\"/></cloth></scene>\n");
+  const std::string run = "run " + (dir / "scene.xml").string() + " --checkpoint-every 1";
+  REQUIRE(run_cli(run).exit_code == 0);
+  write_text(dir / "map.png", encode_png(2, 2, 1, 8, {255, 255, 255, 0}));
+  const CliResult map = run_cli(run + " --resume");
+  CHECK(map.exit_code == 0);
+  CHECK(map.output.find("belongs to another scene") != std::string::npos);
+  CHECK(map.output.find("resuming after") == std::string::npos);
+  write_text(dir / "body.obj", "v -1 -2 -1\nv 1 -2 -1\nv 0 -2 1\nf 1 2 3\n");
+  const CliResult body = run_cli(run + " --resume");
+  CHECK(body.output.find("belongs to another scene") != std::string::npos);
+  CHECK(body.output.find("resuming after") == std::string::npos);
+  const CliResult same = run_cli(run + " --resume");  // nothing changed since: the checkpoint is used
+  CHECK(same.output.find("resuming after frame 2") != std::string::npos);
 }

@@ -217,3 +217,23 @@ TEST_CASE("stb_image's other formats (GIF, PSD, PIC, PNM, HDR) are refused by th
     CHECK(what.find(std::string("map.img: ") + format + " image, a format clothsim does not read") != std::string::npos);
   }
 }
+
+TEST_CASE("a PNG cut short after its header says it is truncated instead of an empty reason") {
+  const auto dir = scratch_dir("map_truncated");
+  // A valid 8 x 8 PNG's header, then its IDAT cut to half its data (CRC made anew), and no IEND: stb_image
+  // fails on it without a reason.
+  const std::string whole = encode_png(8, 8, 1, 8, std::vector<std::uint16_t>(64, 100));
+  REQUIRE(whole.substr(37, 4) == "IDAT");
+  const std::size_t length = std::uint32_t(std::uint8_t(whole[35])) * 256 + std::uint8_t(whole[36]);
+  std::string cut = png_signature_and_header(8, 8, 1, 8);
+  png_chunk(cut, "IDAT", whole.substr(41, length / 2));
+  write_text(dir / "cut.png", cut);
+  std::string what = "accepted";
+  try {
+    io::read_grey_image((dir / "cut.png").string());
+  } catch (const Error& e) {
+    what = e.what();
+  }
+  CHECK(what.find("cut.png: cannot decode the image (the file is truncated or corrupt); expected a PNG") !=
+        std::string::npos);
+}

@@ -19,7 +19,8 @@ std::string trim(const std::string& s) {
 std::vector<std::string> scene_paths(const std::string& list) {
   namespace fs = std::filesystem;
   std::vector<std::string> paths;
-  if (fs::is_directory(list)) {
+  std::error_code ec;
+  if (fs::is_directory(list, ec)) {
     for (const auto& e : fs::directory_iterator(list))
       if (e.is_regular_file() && e.path().extension() == ".xml") paths.push_back(e.path().string());
     std::sort(paths.begin(), paths.end());

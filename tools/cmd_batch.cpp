@@ -121,7 +121,7 @@ void run_local(std::vector<BatchScene>& scenes, std::vector<std::size_t> queue, 
       BatchScene& s = scenes[queue.back()];
       try {
         running.push_back({queue.back(), std::make_unique<SceneProcess>(s, threads, checkpoint_every)});
-      } catch (const Error& e) {  // e.g. an output folder that cannot be made: this scene fails, the rest run
+      } catch (const std::exception& e) {  // e.g. an output folder that cannot be made: this scene fails, the rest run
         s.status = "failed";
         s.exit_code = exit_bad_input;
         s.message = e.what();
@@ -195,7 +195,7 @@ int cmd_batch(int argc, char** argv) {
   // Completed scenes (marker left by an earlier batch) are skipped; the rest run `jobs` at a time.
   std::vector<std::size_t> queue;
   for (std::size_t i = 0; i < scenes.size(); ++i) {
-    if (std::filesystem::exists(batch_done_marker(scenes[i]))) {
+    if (batch_done(scenes[i])) {
       scenes[i].status = "complete";
       scenes[i].exit_code = 0;
       scenes[i].frames = scenes[i].total_frames;

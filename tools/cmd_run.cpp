@@ -26,6 +26,7 @@
 #include "tools/commands.h"
 #include "tools/progress.h"
 #include "tools/run_checkpoints.h"
+#include "tools/run_outputs.h"
 #include "tools/scene_loader.h"
 #include "tools/step_advice.h"
 
@@ -118,16 +119,9 @@ int cmd_run(int argc, char** argv) {
   const FrameRange frames = args.has("--frames") ? parse_frames(args.get("--frames"), model)
                                                  : FrameRange{model.start_frame, model.end_frame};
 
-  // Output folders are checked before the first step, so a bad one costs no simulation time.
-  std::vector<std::string> dirs;
-  std::set<std::string> names;
-  for (const ClothInfo& c : model.cloths) {
-    dirs.push_back(args.has("--out") ? args.get("--out") : c.save_dir);
-    if (!names.insert(dirs.back() + "/" + c.save_name).second)
-      throw Error(args.positional[0], "two cloths write '" + c.save_name + "' into " + dirs.back() +
-                                          "; expected distinct saveName values");
-  }
-  for (const std::string& d : std::set<std::string>(dirs.begin(), dirs.end())) io::ensure_writable_dir(d);
+  const std::string out = args.get("--out"), stats_path = args.get("--stats");
+  const std::vector<std::string> dirs = prepare_run_outputs(args.positional[0], model, args.has("--out") ? &out : nullptr,
+                                                            args.has("--stats") ? &stats_path : nullptr);
   for (std::size_t c = 0; c < model.cloths.size(); ++c) io::write_material(dirs[c], model.cloths[c]);
 
   // Divergence guard (docs/stability.md): every frame is checked before it is written. Energies are measured from
@@ -138,10 +132,11 @@ int cmd_run(int argc, char** argv) {
   // timestep="auto": steps adapt inside the frame (systems/adaptive_step.h); it stops only below minTimestep.
   AdaptiveStepper stepper(model, state);
 
-  RunCheckpoints checkpoints(loaded.desc, model, state, dirs.front(),
+  RunCheckpoints checkpoints(loaded.desc, loaded.inputs_fingerprint, model, state, dirs.front(),
                              args.has("--checkpoint-every")
                                  ? parse_int("--checkpoint-every", args.get("--checkpoint-every"), 0)
-                                 : loaded.desc.simulation.checkpoint_every);
+                                 : loaded.desc.simulation.checkpoint_every,
+                             frames.first);
   const int first_frame = checkpoints.start(args.has("--resume"), state, args.has("--quiet"));
 
   Workspace ws = make_workspace(model);

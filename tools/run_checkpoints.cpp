@@ -5,24 +5,24 @@
 #include <vector>
 
 #include "io/checkpoint.h"
-#include "io/text_file.h"
 
 namespace clothsim::cli {
 
-RunCheckpoints::RunCheckpoints(const SceneDesc& scene, const Model& model, const State& initial, std::string dir,
-                               int every)
+RunCheckpoints::RunCheckpoints(const SceneDesc& scene, std::uint64_t inputs, const Model& model,
+                               const State& initial, std::string dir, int every, int first_output)
     : dir_(std::move(dir)),
       stem_(std::filesystem::path(scene.path).stem().string()),
       every_(every),
       start_frame_(model.start_frame),
-      fingerprint_(io::scene_fingerprint(io::read_text_file(scene.path, "a scene file"), model, initial.x)),
+      first_output_(first_output),
+      fingerprint_(io::scene_fingerprint(inputs, model, initial.x)),
       particle_count_(model.particle_count) {}
 
 int RunCheckpoints::start(bool resume, State& state, bool quiet) {
   int first = start_frame_;
   if (resume) {
     std::vector<std::string> warnings;
-    auto c = io::find_latest_checkpoint(dir_, stem_, fingerprint_, particle_count_, warnings);
+    auto c = io::find_latest_checkpoint(dir_, stem_, fingerprint_, particle_count_, first_output_, warnings);
     for (const std::string& w : warnings) std::fprintf(stderr, "clothsim: warning: %s\n", w.c_str());
     if (c) {
       state.x = std::move(c->state.x);
@@ -30,6 +30,7 @@ int RunCheckpoints::start(bool resume, State& state, bool quiet) {
       state.time = c->state.time;
       state.step = c->state.step;
       first = c->frame + 1;
+      first_output_ = c->first_output;  // the frames before this run's were written by the checkpoint's run
       if (!quiet) std::fprintf(stderr, "clothsim: resuming after frame %d from its checkpoint\n", c->frame);
     } else {
       std::fprintf(stderr, "clothsim: warning: no valid checkpoint in %s; starting from frame %d\n",
@@ -47,6 +48,7 @@ void RunCheckpoints::frame_written(int frame, int last_frame, const State& state
   io::Checkpoint c;
   c.fingerprint = fingerprint_;
   c.frame = frame;
+  c.first_output = first_output_;
   c.state = state;
   io::write_checkpoint(dir_, stem_, c);
 }

@@ -12,7 +12,9 @@ namespace clothsim::cli {
 class RunCheckpoints {
  public:
   // every: frames between checkpoints (0: none). Checkpoints go to `dir` as <scene stem>.<frame>.ckpt.
-  RunCheckpoints(const SceneDesc& scene, const Model& model, const State& initial, std::string dir, int every);
+  // inputs: io::inputs_fingerprint of the scene; first_output: the first frame this run writes.
+  RunCheckpoints(const SceneDesc& scene, std::uint64_t inputs, const Model& model, const State& initial,
+                 std::string dir, int every, int first_output);
 
   // With `resume`, loads the newest valid checkpoint into `state` (warning on stderr about each invalid newer
   // one) and returns the first frame still to compute; otherwise, or when none is valid, model.start_frame.
@@ -24,7 +26,7 @@ class RunCheckpoints {
 
  private:
   std::string dir_, stem_;
-  int every_, start_frame_;
+  int every_, start_frame_, first_output_;
   std::uint64_t fingerprint_;
   Index particle_count_;
 };

@@ -2,11 +2,13 @@
 
 #include <chrono>
 
+#include "io/checkpoint.h"
 #include "io/collider_reader.h"
 #include "io/cloth_maps.h"
 #include "io/obj_reader.h"
 #include "io/scene_xml.h"
 #include "systems/adaptive_step.h"
+#include "io/text_file.h"
 #include "tools/cpu_clock.h"
 
 namespace clothsim::cli {
@@ -16,11 +18,13 @@ LoadedScene load_scene(const std::string& path) {
   LoadedScene s;
   const double c0 = process_cpu_seconds();
   const auto t0 = clock::now();
-  s.desc = io::read_scene(path);
+  const std::string text = io::read_text_file(path, "a scene XML file");  // read once: it may be a pipe
+  s.desc = io::parse_scene(path, text);
   std::vector<MeshData> meshes;
   for (const ClothDesc& c : s.desc.cloths) meshes.push_back(c.obj.empty() ? make_cloth_grid(c) : io::read_obj(c.obj));
   const std::vector<ColliderMeshes> colliders = io::read_colliders(s.desc);
   for (std::size_t c = 0; c < meshes.size(); ++c) meshes[c].params = io::sample_cloth_maps(s.desc, s.desc.cloths[c], meshes[c]);
+  s.inputs_fingerprint = io::inputs_fingerprint(text, meshes, colliders);
   const auto t1 = clock::now();
   const double c1 = process_cpu_seconds();
   s.built = build_model(s.desc, std::move(meshes));  // consumed: a large mesh is not held twice

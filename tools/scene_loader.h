@@ -1,5 +1,6 @@
 #pragma once
 // Scene file -> meshes -> Model, timed by phase; shared by `run` and `validate`.
+#include <cstdint>
 #include <string>
 
 #include "core/build_model.h"
@@ -10,6 +11,7 @@ namespace clothsim::cli {
 struct LoadedScene {
   SceneDesc desc;
   BuiltScene built;
+  std::uint64_t inputs_fingerprint = 0;  // of every input file's content (io::inputs_fingerprint)
   double load_seconds = 0;      // reading the scene and the meshes
   double topology_seconds = 0;  // edges, bend springs, CSR, masses
   // The same phases in CPU time of the whole process (all threads): what a loaded machine cannot inflate.

@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <vector>
 
 #include "core/error.h"
@@ -29,6 +30,18 @@ std::string self_exe() {
 }  // namespace
 
 std::string batch_done_marker(const BatchScene& s) { return s.out_dir + "/batch.done"; }
+
+namespace {
+// The marker names the scene it completed: output folders are named by file stem in list order, so after the
+// list is reordered a folder may belong to another scene of the same stem.
+std::string marker_text(const BatchScene& s) { return "scene " + io::normalised_path(s.scene) + "\n"; }
+}  // namespace
+
+bool batch_done(const BatchScene& s) {
+  std::ifstream in(batch_done_marker(s), std::ios::binary);
+  std::string line;
+  return in && std::getline(in, line) && line + "\n" == marker_text(s);
+}
 
 SceneProcess::SceneProcess(const BatchScene& s, int threads, int checkpoint_every)
     : start_(std::chrono::steady_clock::now()) {
@@ -126,7 +139,7 @@ void SceneProcess::finish(BatchScene& s) {
   s.status = s.exit_code == 0 ? "ok" : s.exit_code == 2 ? "bad input" : s.exit_code == 3 ? "diverged" : "failed";
   if (s.exit_code == 0) {
     s.frames = s.total_frames;
-    io::write_file_atomic(batch_done_marker(s), std::to_string(s.frames) + " frames\n");
+    io::write_file_atomic(batch_done_marker(s), marker_text(s) + std::to_string(s.frames) + " frames\n");
   }
 }
 

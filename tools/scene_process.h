@@ -41,5 +41,7 @@ class SceneProcess {
 
 // Path of the marker a completed scene leaves in its output folder, so a re-run batch skips it.
 std::string batch_done_marker(const BatchScene& s);
+// Whether that marker is there and names this scene (a marker of another scene of the same stem does not count).
+bool batch_done(const BatchScene& s);
 
 }  // namespace clothsim::cli

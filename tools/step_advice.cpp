@@ -43,6 +43,12 @@ std::string step_remedy(const Model& m, const StableSteps& limits, Real diverged
       [[fallthrough]];
     case Integrator::symplectic:
     case Integrator::rk4: {
+      // Advice to take a step the run already takes would send the user in circles: a run that diverged well
+      // below the limit has another cause.
+      if (diverged_step > 0 && diverged_step < 0.5 * limit)
+        return "the step is already below half the stability limit " + seconds(limit) +
+               ", so a smaller one will not help: look for another cause, such as a cloth starting inside a "
+               "collider or crossing itself";
       const Real advised = advised_step(m, limits, diverged_step);
       char safety[32];
       std::snprintf(safety, sizeof safety, "%g", m.step_safety);
