@@ -16,6 +16,7 @@ struct MeshData {
   std::vector<Index> tri_uv;     // uv indices per corner (3 * triangle_count), or empty without UVs
   int polygons_triangulated = 0; // faces with more than 3 corners that were split into a fan
   VertexParams params;           // sampled from the cloth's maps; empty arrays for uniform values
+  std::vector<Vec3> rest_positions;  // <cloth rest>: the rest mesh's positions, m (vertex_count), or empty
 
   Index vertex_count() const { return static_cast<Index>(positions.size()); }
   Index triangle_count() const { return static_cast<Index>(tri_index.size() / 3); }

@@ -64,6 +64,15 @@ struct ParamMapDesc {
   bool mapped() const { return !path.empty(); }
 };
 
+// <attach>: cloth vertices bound to the nearest triangle of a mesh collider at the first frame, moving with it
+// (core/attachments.h).
+struct AttachDesc {
+  std::string collider;         // name of a <static> collider
+  std::vector<Index> vertices;  // vertex indices, counted from 0
+  ParamMapDesc map;             // vertices whose grey level is above 0.5 (min 0, max 1), when mapped
+  int line = 0;                 // line of the element, for error messages
+};
+
 struct ClothDesc {
   std::string name;
   int line = 0;               // line of the <cloth> element, for error messages
@@ -89,6 +98,8 @@ struct ClothDesc {
   bool mass_per_vertex = false;  // <mass> given: kg per vertex instead of density lumped by area
   Real mass = 0;              // kg per vertex, when mass_per_vertex and not mapped
   ParamMapDesc density_map, mass_map, stiffness_map, damping_map, thickness_map, pins_map;
+  std::vector<AttachDesc> attach;
+  std::string rest;           // rest-shape mesh (resolved), or empty: rest lengths from the cloth's own mesh
 };
 
 // A collider: <static obj|sequence>, <sphere> or <plane>. Meshes are one-sided: the outside is where the

@@ -293,11 +293,33 @@ void read_collider(const std::string& file, const std::string& text, const std::
   }
 }
 
+// vertices="i j k": indices counted from 0, appended to `out`.
+void read_vertex_list(const ElementReader& s, std::vector<Index>& out) {
+  std::istringstream in(s.text("vertices"));
+  std::string tok;
+  while (in >> tok) {
+    Index v = -1;
+    auto [q, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+    if (ec != std::errc() || q != tok.data() + tok.size() || v < 0)
+      s.bad("vertices", "vertex indices (integers >= 0, counted from 0)");
+    out.push_back(v);
+  }
+}
+
+// map="image" of <pins> and <attach>: the vertices above half grey (min 0, max 1).
+void read_selection_map(const ElementReader& s, const std::string& base, ParamMapDesc& map) {
+  if (s.text("map").empty()) s.bad("map", "an image file (PNG, JPEG, TGA or BMP)");
+  map.path = resolve(base, s.text("map"));
+  map.min = 0;
+  map.max = 1;
+  map.line = s.line();
+}
+
 void read_cloth(const std::string& file, const std::string& text, const std::string& base, pugi::xml_node n,
                 ClothDesc& c, int index) {
   ElementReader r(file, text, n,
                   {"name", "obj", "grid", "size", "saveDir", "saveName", "texture", "translate", "rotate", "scale",
-                   "friction", "restitution", "selfCollision", "clothCollision", "maxStrain"});
+                   "friction", "restitution", "selfCollision", "clothCollision", "maxStrain", "rest"});
   c.line = r.line();
   c.name = r.text("name", "cloth" + std::to_string(index));
   if (r.has("obj") == r.has("grid")) r.fail("expected exactly one of obj=\"mesh.obj\" or grid=\"NX NY\"");
@@ -330,6 +352,8 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
   c.self_collision = r.boolean("selfCollision", c.self_collision);
   c.cloth_collision = r.boolean("clothCollision", c.cloth_collision);
   if (r.has("maxStrain")) c.max_strain = r.positive("maxStrain", 0, "largest strain (|d| - rest)/rest, e.g. 0.1");
+  if (r.has("rest") && r.text("rest").empty()) r.bad("rest", "an OBJ with the cloth's vertices and triangles");
+  c.rest = resolve(base, r.text("rest"));
 
   bool has_density = false;
   for (pugi::xml_node p : n.children()) {
@@ -359,25 +383,20 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
                  true, "m");
     } else if (name == "pins") {
       ElementReader s(file, text, p, {"vertices", "map"});
-      if (s.has("map")) {
-        if (s.text("map").empty()) s.bad("map", "an image file (PNG, JPEG, TGA or BMP)");
-        c.pins_map.path = resolve(base, s.text("map"));
-        c.pins_map.min = 0;
-        c.pins_map.max = 1;
-        c.pins_map.line = s.line();
-      }
-      std::istringstream in(s.text("vertices"));
-      std::string tok;
-      while (in >> tok) {
-        Index v = -1;
-        auto [q, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-        if (ec != std::errc() || q != tok.data() + tok.size() || v < 0)
-          s.bad("vertices", "vertex indices (integers >= 0, counted from 0)");
-        c.pins.push_back(v);
-      }
+      if (s.has("map")) read_selection_map(s, base, c.pins_map);
+      read_vertex_list(s, c.pins);
+    } else if (name == "attach") {
+      ElementReader s(file, text, p, {"collider", "vertices", "map"});
+      AttachDesc& a = c.attach.emplace_back();
+      a.line = s.line();
+      a.collider = s.text("collider");
+      if (a.collider.empty()) s.bad("collider", "the name of a <static> mesh collider");
+      if (s.has("vertices") == s.has("map")) s.fail("expected exactly one of vertices=\"i j ...\" or map=\"image\"");
+      if (s.has("map")) read_selection_map(s, base, a.map);
+      read_vertex_list(s, a.vertices);
     } else {
       ElementReader::unknown_element(file, text, p,
-          "unknown element in <cloth>; expected density, mass, stiffness, damping, thickness or pins");
+          "unknown element in <cloth>; expected density, mass, stiffness, damping, thickness, pins or attach");
     }
   }
 }

@@ -600,15 +600,10 @@ void resolve_impact_zones(const Model& m, const State& in, State& out, Collision
 void place_colliders(const Model& m, std::int64_t step, Real h, CollisionScratch& s) {
   const CollisionModel& c = m.collision;
   if (!c.animated) return;
-  // Frame number at a time from the step count (not the summed time), so every run lands on the same values.
   auto at = [&](const ColliderInfo& ci, Real t, std::vector<Vec3>& dst) {
-    const Real local = std::clamp(m.start_frame + t * m.fps - ci.first_frame, Real(0), Real(ci.frame_count - 1));
-    const int f0 = std::min(int(std::floor(local)), ci.frame_count - 1), f1 = std::min(f0 + 1, ci.frame_count - 1);
-    const Real w = local - f0;
-    const Index nv = ci.vertex_end - ci.vertex_begin;
-    const Vec3* a = &c.frame_x[ci.frame_offset + std::size_t(f0) * nv];
-    const Vec3* b = &c.frame_x[ci.frame_offset + std::size_t(f1) * nv];
-    parallel_over(nv, particle_grain, [&](Index k) { dst[ci.vertex_begin + k] = (1 - w) * a[k] + w * b[k]; });
+    const FrameBlend b = frame_blend(ci, m.start_frame, m.fps, t);
+    parallel_over(ci.vertex_end - ci.vertex_begin, particle_grain,
+                  [&](Index k) { dst[ci.vertex_begin + k] = collider_vertex(c, ci, b, ci.vertex_begin + k); });
   };
   for (const ColliderInfo& ci : c.colliders) {
     if (ci.shape != ColliderShape::sequence) continue;

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <utility>
 
+#include "systems/attachments.h"
 #include "systems/collide.h"
 #include "systems/forces.h"
 #include "systems/integrate_explicit.h"
@@ -30,6 +31,7 @@ void step(const Model& model, const State& in, State& out, Workspace& ws, Real h
       integrate_implicit(model, in, out, ws, h);
       break;
   }
+  apply_attachments(model, in, out, h);
   collide(model, in, out, ws, h);
   if (model.strain_limited) apply_strain_limit(model, out, ws, h);
   out.time = in.time + h;

@@ -5,6 +5,7 @@
 #include "io/collider_reader.h"
 #include "io/cloth_maps.h"
 #include "io/obj_reader.h"
+#include "io/rest_shape.h"
 #include "io/scene_xml.h"
 #include "tools/cpu_clock.h"
 
@@ -20,6 +21,7 @@ LoadedScene load_scene(const std::string& path) {
   for (const ClothDesc& c : s.desc.cloths) meshes.push_back(c.obj.empty() ? make_cloth_grid(c) : io::read_obj(c.obj));
   const std::vector<ColliderMeshes> colliders = io::read_colliders(s.desc);
   for (std::size_t c = 0; c < meshes.size(); ++c) meshes[c].params = io::sample_cloth_maps(s.desc, s.desc.cloths[c], meshes[c]);
+  for (std::size_t c = 0; c < meshes.size(); ++c) meshes[c].rest_positions = io::read_rest_shape(s.desc, s.desc.cloths[c], meshes[c]);
   const auto t1 = clock::now();
   const double c1 = process_cpu_seconds();
   s.built = build_model(s.desc, std::move(meshes));  // consumed: a large mesh is not held twice
