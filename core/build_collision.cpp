@@ -5,6 +5,7 @@
 #include <cmath>
 #include <tuple>
 
+#include "core/attachments.h"
 #include "core/error.h"
 #include "core/topology.h"
 #include "core/transform.h"
@@ -210,6 +211,7 @@ void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& 
     centroid.push_back((c.mesh_x[v[0]] + c.mesh_x[v[1]] + c.mesh_x[v[2]]) / 3);
   }
   if (c.broad_phase == BroadPhase::bvh) build_bvh_topology(centroid, c);
+  bind_attachments(scene, x, m);
 }
 
 void make_collision_workspace(const Model& m, CollisionScratch& s) {

@@ -5,6 +5,7 @@
 #include <limits>
 #include <numeric>
 
+#include "core/attachments.h"
 #include "core/csr.h"
 #include "core/build_collision.h"
 #include "core/error.h"
@@ -115,6 +116,12 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
   }
   std::vector<Vec3> positions;
   positions.reserve(total_vertices);
+  // Rest positions (<cloth rest>): rest lengths, masses and tethers come from them; the cloth's own positions for
+  // cloths without a rest mesh. Held apart only when some cloth has one.
+  const bool own_rest = std::any_of(meshes.begin(), meshes.end(), [](const MeshData& d) { return !d.rest_positions.empty(); });
+  std::vector<Vec3> rest_x;
+  if (own_rest) rest_x.reserve(total_vertices);
+  const std::vector<Vec3>& rest = own_rest ? rest_x : positions;
   m.tri_index.reserve(total_tris);
   std::vector<Real> mass, area;
   std::vector<char> pinned_flag;
@@ -151,6 +158,9 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
     }
 
     for (const Vec3& p : mesh.positions) positions.push_back(apply_transform(cd.transform, p));
+    if (own_rest)
+      for (const Vec3& p : mesh.rest_positions.empty() ? mesh.positions : mesh.rest_positions)
+        rest_x.push_back(apply_transform(cd.transform, p));
     mass.resize(positions.size(), 0.0);
     area.resize(positions.size(), 0.0);
     pinned_flag.resize(positions.size(), 0);
@@ -167,11 +177,12 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
     info.thickness = vertex_thickness[0];
     for (Index i = 0; i < mesh.vertex_count(); ++i) info.thickness = std::max(info.thickness, vertex_thickness[i]);
 
-    // Mass from areal density lumped to the corners by area (a third each), so refining keeps the total.
+    // Mass from areal density lumped to the corners by rest area (a third each), so refining keeps the total; a
+    // rest mesh (a garment's flat pattern) holds the cloth's material, however a drape stretches it.
     for (Index t = 0; t < mesh.triangle_count(); ++t) {
       Index g[3];
       for (int k = 0; k < 3; ++k) g[k] = base + mesh.tri_index[3 * t + k];
-      const Real a = 0.5 * (positions[g[1]] - positions[g[0]]).cross(positions[g[2]] - positions[g[0]]).norm();
+      const Real a = 0.5 * (rest[g[1]] - rest[g[0]]).cross(rest[g[2]] - rest[g[0]]).norm();
       for (int k = 0; k < 3; ++k) {
         area[g[k]] += a / 3;
         mass[g[k]] += density[mesh.tri_index[3 * t + k]] * a / 3;
@@ -199,8 +210,9 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
                         std::to_string(mesh.vertex_count()) + " vertices, numbered from 0)");
       pinned_flag[base + p] = 1;
     }
+    mark_attachments(scene, cd, mesh, base, pinned_flag, m);
 
-    straight_rest.push_back(cd.grid_nx > 0);
+    straight_rest.push_back(cd.grid_nx > 0 && mesh.rest_positions.empty());
     SpringList springs = cloth_springs(cd, mesh, info.pieces);
     info.spring_begin = m.spring_count;
     const std::size_t spring_total = std::size_t(m.spring_count) + springs.size();
@@ -209,14 +221,15 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
     m.spring_rest.reserve(spring_total);
     for (Index s = 0; s < springs.size(); ++s) {
       const Index a = base + springs.a[s], b = base + springs.b[s];
-      const Real rest = (positions[b] - positions[a]).norm();
-      if (!(rest > 0))
+      const Real rest_length = (rest[b] - rest[a]).norm();
+      if (!(rest_length > 0))
         throw Error(scene.path, cd.line,
                     "cloth '" + cd.name + "': vertices " + std::to_string(springs.a[s]) + " and " +
-                        std::to_string(springs.b[s]) + " coincide (zero-length spring); expected distinct positions");
+                        std::to_string(springs.b[s]) + " coincide" + (cd.rest.empty() ? "" : " in the rest mesh " + cd.rest) +
+                        " (zero-length spring); expected distinct positions");
       m.spring_a.push_back(a);
       m.spring_b.push_back(b);
-      m.spring_rest.push_back(rest);
+      m.spring_rest.push_back(rest_length);
       // A spring takes the mean of its ends' values; for a uniform value 0.5 * (k + k) is k exactly.
       ke.push(0.5 * (stiffness[springs.a[s]] + stiffness[springs.b[s]]) * kind_scale(cd, springs.kind[s]));
       kd.push(0.5 * (damping[springs.a[s]] + damping[springs.b[s]]));
@@ -257,7 +270,7 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
   // The strain limit's colour schedule and long-range attachments (systems/strain_limit.h).
   if (m.strain_limited) {
     build_spring_colours(m);
-    build_tethers(m, positions, straight_rest);
+    build_tethers(m, rest, straight_rest);
   }
 
   out.state = make_state(m, std::move(positions));

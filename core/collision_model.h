@@ -2,6 +2,8 @@
 // What the collision stage needs: the collider table and cloth-side collision topology (immutable, in Model),
 // and the per-step scratch (in Workspace). Empty for a scene without colliders and without a pair of cloths that
 // collide (a cloth with itself under selfCollision, two cloths under clothCollision).
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -30,6 +32,18 @@ struct ColliderInfo {
   std::size_t frame_offset = 0;            // sequence: start in frame_x (frame_count * vertex count rows)
   bool closed = false;                     // every edge has two triangles: the inside test applies
 };
+
+// Where a sequence collider stands at time t (s since the start frame): between its stored frames f0 and f1,
+// weight w on f1. From the step count, not a summed time, so every run lands on the same values.
+struct FrameBlend {
+  int f0 = 0, f1 = 0;
+  Real w = 0;
+};
+inline FrameBlend frame_blend(const ColliderInfo& ci, int start_frame, Real fps, Real t) {
+  const Real local = std::clamp(start_frame + t * fps - ci.first_frame, Real(0), Real(ci.frame_count - 1));
+  const int f0 = std::min(int(std::floor(local)), ci.frame_count - 1), f1 = std::min(f0 + 1, ci.frame_count - 1);
+  return {f0, f1, local - f0};
+}
 
 struct CollisionModel {
   bool enabled = false;            // any collider, or cloth_contact
@@ -104,6 +118,14 @@ struct CollisionModel {
     return joined(a, p) || joined(a, q) || joined(b, p) || joined(b, q);
   }
 };
+
+// Collider mesh vertex v (a row of mesh_x) at a blend of frame_blend: its one position for a static mesh.
+inline Vec3 collider_vertex(const CollisionModel& c, const ColliderInfo& ci, const FrameBlend& b, Index v) {
+  if (ci.shape != ColliderShape::sequence) return c.mesh_x[v];
+  const std::size_t nv = std::size_t(ci.vertex_end - ci.vertex_begin), k = std::size_t(v - ci.vertex_begin);
+  return (1 - b.w) * c.frame_x[ci.frame_offset + std::size_t(b.f0) * nv + k] +
+         b.w * c.frame_x[ci.frame_offset + std::size_t(b.f1) * nv + k];
+}
 
 // Spatial hash after Teschner et al. 2003: entries (bucket, prim, cell) scattered into contiguous bucket ranges.
 struct HashScratch {

@@ -22,7 +22,8 @@ std::size_t model_bytes(const Model& m) {
                                 m.spring_chunk_open_offset, m.spring_chunk_open_range, m.spring_chunk_close_offset,
                                 m.spring_chunk_close_range, m.spring_block_close, m.tri_index,
                                 m.particle_tri_offset, m.particle_tri_index, m.spring_colour_offset,
-                                m.spring_colour_spring, m.tether_particle, m.tether_pin, m.tether_length);
+                                m.spring_colour_spring, m.tether_particle, m.tether_pin, m.tether_length,
+                                m.attach_particle, m.attach_collider, m.attach_tri, m.attach_weight, m.attach_offset);
   total += m.particle_thickness.bytes() + m.particle_stiffness.bytes() + m.spring_ke.bytes() + m.spring_kd.bytes() +
            m.spring_max_strain.bytes();
   for (const ClothInfo& c : m.cloths) total += sum_bytes(c.uvs, c.tri_uv);

@@ -20,6 +20,7 @@ struct MeshData {
   std::vector<Index> stitch_a, stitch_b, stitch_c;
   std::vector<Real> stitch_w;
   Index seam_count = 0;          // `seam N` group lines read (they only group stitches)
+  std::vector<Vec3> rest_positions;  // <cloth rest>: the rest mesh's positions, m (vertex_count), or empty
 
   Index vertex_count() const { return static_cast<Index>(positions.size()); }
   Index stitch_count() const { return static_cast<Index>(stitch_a.size()); }

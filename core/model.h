@@ -51,6 +51,12 @@ struct Model {
   std::vector<Real> particle_inv_mass;  // 1/kg, 0 for pinned (particle_count)
   std::vector<Real> particle_area;      // m^2 lumped area, only when wind is on (particle_count or 0)
   std::vector<Index> pinned;            // indices of pinned particles (pinned count)
+  // attachments (core/attachments.h): pinned particles that follow a point bound to a collider mesh triangle
+  std::vector<Index> attach_particle;   // ascending (attach count)
+  std::vector<Index> attach_collider;   // into collision.colliders (attach count)
+  std::vector<Index> attach_tri;        // collider mesh triangle, a row of collision.mesh_tri_index / 3 (attach count)
+  std::vector<Vec3> attach_weight;      // barycentric weights of the particle's projection on it (attach count)
+  std::vector<Real> attach_offset;      // signed distance along the triangle's unit normal, m (attach count)
   ParamField particle_thickness;        // collision thickness, m (particle_count, stride 0 when uniform)
   // stretch stiffness at each vertex (its <stiffness>, before the shear/bend scales), N/m: the spring that caps
   // the cloth-cloth repulsion (systems/collision_response.h) (particle_count, stride 0 when uniform)

@@ -72,6 +72,15 @@ struct ParamMapDesc {
   bool mapped() const { return !path.empty(); }
 };
 
+// <attach>: cloth vertices bound to the nearest triangle of a mesh collider at the first frame, moving with it
+// (core/attachments.h).
+struct AttachDesc {
+  std::string collider;         // name of a <static> collider
+  std::vector<Index> vertices;  // vertex indices, counted from 0
+  ParamMapDesc map;             // vertices whose grey level is above 0.5 (min 0, max 1), when mapped
+  int line = 0;                 // line of the element, for error messages
+};
+
 struct ClothDesc {
   std::string name;
   int line = 0;               // line of the <cloth> element, for error messages
@@ -100,6 +109,8 @@ struct ClothDesc {
   Real weld = 0;              // m: boundary vertices of different pieces closer than this are sewn; 0 for none
   Real sew_speed = 0.2;       // m/s: how fast a stitch's target gap shrinks to zero (systems/stitch_forces.h)
   ParamMapDesc density_map, mass_map, stiffness_map, damping_map, thickness_map, pins_map;
+  std::vector<AttachDesc> attach;
+  std::string rest;           // rest-shape mesh (resolved), or empty: rest lengths from the cloth's own mesh
 };
 
 // A collider: <static obj|sequence>, <sphere> or <plane>. Meshes are one-sided: the outside is where the

@@ -14,6 +14,8 @@ struct VertexParams {
   std::vector<Real> damping;    // N s/m; a spring takes the mean of its two ends (vertex_count or 0)
   std::vector<Real> thickness;  // m (vertex_count or 0)
   std::vector<char> pinned;     // 1 where the pins map is above half grey (vertex_count or 0)
+  // per <attach> of the cloth: 1 where its map is above half grey (vertex_count, or 0 for a vertex list)
+  std::vector<std::vector<char>> attached;
 };
 
 }  // namespace clothsim

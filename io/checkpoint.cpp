@@ -57,6 +57,7 @@ std::uint64_t hash_array(const std::vector<T>& v, std::uint64_t h) {
 std::uint64_t hash_mesh(const MeshData& m, std::uint64_t h) {
   h = hash_array(m.tri_uv, hash_array(m.tri_index, hash_array(m.uvs, hash_array(m.positions, h))));
   h = hash_array(m.stitch_w, hash_array(m.stitch_c, hash_array(m.stitch_b, hash_array(m.stitch_a, h))));
+  h = hash_array(m.rest_positions, h);
   const VertexParams& p = m.params;
   return hash_array(p.pinned, hash_array(p.thickness, hash_array(p.damping, hash_array(p.stiffness,
          hash_array(p.mass, hash_array(p.density, h))))));

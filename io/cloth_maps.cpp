@@ -60,9 +60,15 @@ VertexParams sample_cloth_maps(const SceneDesc& scene, const ClothDesc& cloth, c
   out.stiffness = sample(cloth.stiffness_map, "stiffness");
   out.damping = sample(cloth.damping_map, "damping");
   out.thickness = sample(cloth.thickness_map, "thickness");
-  const std::vector<Real> pins = sample(cloth.pins_map, "pins");
-  out.pinned.resize(pins.size());
-  for (std::size_t i = 0; i < pins.size(); ++i) out.pinned[i] = pins[i] > 0.5;
+  // Pins and attachments select the vertices above half grey.
+  auto above_half = [&](const ParamMapDesc& map, const char* element) {
+    const std::vector<Real> grey = sample(map, element);
+    std::vector<char> on(grey.size());
+    for (std::size_t i = 0; i < grey.size(); ++i) on[i] = grey[i] > 0.5;
+    return on;
+  };
+  out.pinned = above_half(cloth.pins_map, "pins");
+  for (const AttachDesc& a : cloth.attach) out.attached.push_back(above_half(a.map, "attach"));
   return out;
 }
 

@@ -346,11 +346,20 @@ void read_vertex_indices(const ElementReader& s, std::vector<Index>& out) {
   }
 }
 
+// map="image" of <pins> and <attach>: the vertices above half grey (min 0, max 1).
+void read_selection_map(const ElementReader& s, const std::string& base, ParamMapDesc& map) {
+  if (s.text("map").empty()) s.bad("map", "an image file (PNG, JPEG, TGA or BMP)");
+  map.path = resolve(base, s.text("map"));
+  map.min = 0;
+  map.max = 1;
+  map.line = s.line();
+}
+
 void read_cloth(const std::string& file, const std::string& text, const std::string& base, pugi::xml_node n,
                 ClothDesc& c, int index) {
   ElementReader r(file, text, n,
                   {"name", "obj", "grid", "size", "saveDir", "saveName", "texture", "translate", "rotate", "scale",
-                   "friction", "restitution", "selfCollision", "clothCollision", "maxStrain", "weld", "sewSpeed"});
+                   "friction", "restitution", "selfCollision", "clothCollision", "maxStrain", "weld", "sewSpeed", "rest"});
   c.line = r.line();
   c.name = r.name_text("name", "cloth" + std::to_string(index));
   if (r.has("obj") == r.has("grid")) r.fail("expected exactly one of obj=\"mesh.obj\" or grid=\"NX NY\"");
@@ -386,6 +395,8 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
   if (r.has("maxStrain")) c.max_strain = r.positive("maxStrain", 0, "largest strain (|d| - rest)/rest, e.g. 0.1");
   c.weld = r.non_negative("weld", c.weld, "m");
   c.sew_speed = r.positive("sewSpeed", c.sew_speed, "m/s");
+  if (r.has("rest") && r.text("rest").empty()) r.bad("rest", "an OBJ with the cloth's vertices and triangles");
+  c.rest = resolve(base, r.text("rest"));
 
   bool has_density = false;
   std::set<std::string> seen;
@@ -418,13 +429,7 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
                  true, "m");
     } else if (name == "pins") {
       ElementReader s(file, text, p, {"vertices", "map"});
-      if (s.has("map")) {
-        if (s.text("map").empty()) s.bad("map", "an image file (PNG, JPEG, TGA or BMP)");
-        c.pins_map.path = resolve(base, s.text("map"));
-        c.pins_map.min = 0;
-        c.pins_map.max = 1;
-        c.pins_map.line = s.line();
-      }
+      if (s.has("map")) read_selection_map(s, base, c.pins_map);
       read_vertex_indices(s, c.pins);
     } else if (name == "stitch") {
       ElementReader s(file, text, p, {"vertices"});
@@ -432,9 +437,18 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
       read_vertex_indices(s, c.stitch_pairs);
       if ((c.stitch_pairs.size() - before) % 2 != 0 || c.stitch_pairs.size() == before)
         s.bad("vertices", "vertex pairs \"i j  k l ...\" (an even count of 0-based indices)");
+    } else if (name == "attach") {
+      ElementReader s(file, text, p, {"collider", "vertices", "map"});
+      AttachDesc& a = c.attach.emplace_back();
+      a.line = s.line();
+      a.collider = s.text("collider");
+      if (a.collider.empty()) s.bad("collider", "the name of a <static> mesh collider");
+      if (s.has("vertices") == s.has("map")) s.fail("expected exactly one of vertices=\"i j ...\" or map=\"image\"");
+      if (s.has("map")) read_selection_map(s, base, a.map);
+      read_vertex_indices(s, a.vertices);
     } else {
       ElementReader::unknown_element(file, text, p,
-          "unknown element in <cloth>; expected density, mass, stiffness, damping, thickness, pins or stitch");
+          "unknown element in <cloth>; expected density, mass, stiffness, damping, thickness, pins, stitch or attach");
     }
   }
 }

@@ -626,13 +626,9 @@ void place_colliders(const Model& m, Real time, Real h, CollisionScratch& s) {
   // The step's own start time: with timestep="auto" the steps of a frame differ in length, so a step count
   // times h would place the body at the wrong time.
   auto at = [&](const ColliderInfo& ci, Real t, std::vector<Vec3>& dst) {
-    const Real local = std::clamp(m.start_frame + t * m.fps - ci.first_frame, Real(0), Real(ci.frame_count - 1));
-    const int f0 = std::min(int(std::floor(local)), ci.frame_count - 1), f1 = std::min(f0 + 1, ci.frame_count - 1);
-    const Real w = local - f0;
-    const Index nv = ci.vertex_end - ci.vertex_begin;
-    const Vec3* a = &c.frame_x[ci.frame_offset + std::size_t(f0) * nv];
-    const Vec3* b = &c.frame_x[ci.frame_offset + std::size_t(f1) * nv];
-    parallel_over(nv, particle_grain, [&](Index k) { dst[ci.vertex_begin + k] = (1 - w) * a[k] + w * b[k]; });
+    const FrameBlend b = frame_blend(ci, m.start_frame, m.fps, t);
+    parallel_over(ci.vertex_end - ci.vertex_begin, particle_grain,
+                  [&](Index k) { dst[ci.vertex_begin + k] = collider_vertex(c, ci, b, ci.vertex_begin + k); });
   };
   for (const ColliderInfo& ci : c.colliders) {
     if (ci.shape != ColliderShape::sequence) continue;

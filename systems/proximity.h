@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/collision_model.h"
+#include "core/triangle_distance.h"
 
 namespace clothsim {
 
@@ -73,32 +74,6 @@ inline bool edge_edge_proximity(const Vec3& p1, const Vec3& p2, const Vec3& q1, 
     out.n = cr.normalized();
   }
   return true;
-}
-
-// Closest point to p on triangle (a, b, c) (Ericson §5.1.5).
-inline Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const Real d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const Real d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const Real vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
-  const Vec3 cp = p - c;
-  const Real d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const Real vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
-  const Real va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-  const Real denom = 1 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-// Exact distance from p to triangle (a, b, c), for the independent checks of --stats.
-inline Real point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  return (p - closest_point_on_triangle(p, a, b, c)).norm();
 }
 
 inline bool boxes_overlap(const Aabb& a, const Aabb& b) {

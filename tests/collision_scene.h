@@ -13,6 +13,7 @@
 #include "core/build_model.h"
 #include "io/collider_reader.h"
 #include "io/obj_reader.h"
+#include "io/rest_shape.h"
 #include "io/scene_xml.h"
 #include "systems/step.h"
 
@@ -28,6 +29,7 @@ inline LoadedCollisionScene load_collision_scene(const std::filesystem::path& xm
   s.desc = io::read_scene(xml.string());
   std::vector<MeshData> meshes;
   for (const ClothDesc& c : s.desc.cloths) meshes.push_back(c.obj.empty() ? make_cloth_grid(c) : io::read_obj(c.obj));
+  for (std::size_t c = 0; c < meshes.size(); ++c) meshes[c].rest_positions = io::read_rest_shape(s.desc, s.desc.cloths[c], meshes[c]);
   s.built = build_model(s.desc, meshes);
   build_collision(s.desc, io::read_colliders(s.desc), s.built.state.x, s.built.model);
   return s;

@@ -6,6 +6,7 @@
 #include "io/collider_reader.h"
 #include "io/cloth_maps.h"
 #include "io/obj_reader.h"
+#include "io/rest_shape.h"
 #include "io/scene_xml.h"
 #include "systems/adaptive_step.h"
 #include "io/text_file.h"
@@ -24,6 +25,7 @@ LoadedScene load_scene(const std::string& path) {
   for (const ClothDesc& c : s.desc.cloths) meshes.push_back(c.obj.empty() ? make_cloth_grid(c) : io::read_obj(c.obj));
   const std::vector<ColliderMeshes> colliders = io::read_colliders(s.desc);
   for (std::size_t c = 0; c < meshes.size(); ++c) meshes[c].params = io::sample_cloth_maps(s.desc, s.desc.cloths[c], meshes[c]);
+  for (std::size_t c = 0; c < meshes.size(); ++c) meshes[c].rest_positions = io::read_rest_shape(s.desc, s.desc.cloths[c], meshes[c]);
   s.inputs_fingerprint = io::inputs_fingerprint(text, meshes, colliders);
   const auto t1 = clock::now();
   const double c1 = process_cpu_seconds();
