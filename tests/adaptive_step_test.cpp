@@ -56,7 +56,7 @@ TEST_CASE("auto picks the largest step that divides the frame and stays within s
   CHECK(m.min_dt == doctest::Approx(m.dt / 1024));
 }
 
-TEST_CASE("a failing step is rejected with the state untouched; below minTimestep the frame stops") {
+TEST_CASE("a failing step is rejected with the state untouched and below minTimestep the frame stops") {
   // Implicit with one CG iteration against a 1e-12 tolerance: every solve stops at its cap, so every step fails,
   // halves, and after 10 halvings (minTimestep = dt / 1024) the stepper gives up.
   // A pinned scene of the family (a free one falls with a uniform velocity change, which one CG step solves).
@@ -76,7 +76,7 @@ TEST_CASE("a failing step is rejected with the state untouched; below minTimeste
   CHECK(state.step == 0);
 }
 
-TEST_CASE("too large a step is halved until stable and grows back; same steps and bytes at 1 and 2 threads") {
+TEST_CASE("too large a step is halved until stable and grows back with the same steps and bytes at 1 and 2 threads") {
   // Scene 7 at 8x its automatic step: past the limit, so strain jumps and the stepper halves.
   BuiltScene b = load_auto("auto_grow", io::family_scene(7, "auto").xml);
   const Real chosen = b.model.dt;

@@ -102,7 +102,7 @@ TEST_CASE("validate prints the stable steps and warns when the scene's step is p
   CHECK(limit < 5e-4);
 }
 
-TEST_CASE("timestep=auto: validate names the step, run reports steps per frame; a solve failing below minTimestep exits 3") {
+TEST_CASE("timestep=auto: validate names the step, run reports steps per frame and a solve failing below minTimestep exits 3") {
   const auto dir = scratch_dir("auto_step_cli");
   write_text(dir / "auto.xml", sheet_scene("timestep=\"auto\" fps=\"24\" endFrame=\"3\" integrator=\"symplectic\""));
   const CliResult v = run_cli("validate " + (dir / "auto.xml").string());

@@ -27,7 +27,7 @@ std::string scene(const std::string& cloth_attrs, const std::string& inner) {
 
 }  // namespace
 
-TEST_CASE("stitch records: 0-based, read with their weight; info counts stitches and seams") {
+TEST_CASE("stitch records: 0-based, read with their weight and info counts stitches and seams") {
   const fs::path dir = scratch_dir("stitch_info");
   write_text(dir / "mesh.obj", std::string(two_panels) + "seam 2\nstitch 3 1 2 0.25\nstitch 5 2 2 0\n");
   const MeshData mesh = io::read_obj((dir / "mesh.obj").string());
