@@ -18,12 +18,12 @@ gravity 9.81 m/s^2. Blender's bending (angular) and damping models differ
 from clothsim's springs; both are left at values that keep each sheet stable.
 """
 import argparse
-import json
 import os
-import resource
-import subprocess
 import sys
 import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from peer_run import run_clothsim_timed  # noqa: E402
 
 import bpy
 import numpy as np
@@ -144,15 +144,7 @@ def run_clothsim():
   </cloth>
 </scene>
 """)
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    wall0 = time.perf_counter()
-    subprocess.run([args.clothsim, "run", xml, "--threads", str(args.threads), "--stats", stats, "--quiet"],
-                   check=True)
-    wall = time.perf_counter() - wall0
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    with open(stats) as f:
-        st = json.load(f)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    wall, cpu, st = run_clothsim_timed(args.clothsim, xml, args.threads, stats)
     # The whole process, loading and writing frames included, as Blender's bake includes its set-up.
     return dict(peer=f"clothsim {st['integrator']}", step=st["dt"], steps=st["steps"], wall=wall, cpu=cpu,
                 max_strain=max(fr["max_strain"] for fr in st["frames"]), finite=st["status"] == "ok",

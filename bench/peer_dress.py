@@ -17,12 +17,12 @@ stiffness = tension / (mean edge length) N/m per spring; the same mass (0.2 kg/m
 total spread evenly over the vertices in Blender); gravity 9.81 m/s^2 along -y.
 """
 import argparse
-import json
 import os
-import resource
-import subprocess
 import sys
 import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from peer_run import run_clothsim_timed  # noqa: E402
 
 import bpy
 import numpy as np
@@ -157,18 +157,10 @@ def run_clothsim(obj_path, pins, stiffness, preconditioner):
   </cloth>
 </scene>
 """)
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    wall0 = time.perf_counter()
-    subprocess.run([args.clothsim, "run", xml, "--threads", str(args.threads), "--stats", stats, "--quiet"],
-                   check=True)
-    wall = time.perf_counter() - wall0
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    with open(stats) as f:
-        st = json.load(f)
+    wall, cpu, st = run_clothsim_timed(args.clothsim, xml, args.threads, stats)
     worst = 0.0
     for frame in range(2, 2 + frames):
         worst = max(worst, edge_strain(read_obj_positions(os.path.join(out, f"dress.{frame:04d}.obj")), EDGES, REST))
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     fr = st["frames"]
     return dict(peer=f"clothsim {preconditioner}", step=st["dt"], steps=st["steps"], wall=wall, cpu=cpu,
                 max_strain=worst, cg=st.get("cg_iterations", 0) / max(1, st["steps"]),
