@@ -130,9 +130,7 @@ int main(int argc, char** argv) {
   const int threads = argc > 7 ? std::atoi(argv[7]) : 2;
   const double cg_tolerance = argc > 8 ? std::atof(argv[8]) : 1e-6;
   Integrator integrator = Integrator::symplectic;
-  if (std::strcmp(integrator_name, "implicit") == 0) integrator = Integrator::implicit;
-  else if (std::strcmp(integrator_name, "rk4") == 0) integrator = Integrator::rk4;
-  else if (std::strcmp(integrator_name, "symplectic") != 0) {
+  if (!enum_from_name(integrator_names, integrator_name, integrator) || integrator == Integrator::euler) {
     std::fprintf(stderr, "clothsim_peer_bullet: integrator '%s'; expected symplectic, implicit or rk4\n",
                  integrator_name);
     return 2;

@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/math.h"
@@ -15,10 +16,25 @@ enum class Preconditioner { jacobi, multigrid, cholesky };
 // Broad phase of the collision stage (docs/performance.md, "Spatial hash against BVH", compares them).
 enum class BroadPhase { hash, bvh };
 
+// The names the scene file, the reports and the studies use: one table per enum, in the enum's order, so a new
+// value is added in one place.
+inline constexpr std::array<const char*, 4> integrator_names{"euler", "symplectic", "rk4", "implicit"};
+inline constexpr std::array<const char*, 3> preconditioner_names{"jacobi", "multigrid", "cholesky"};
+inline constexpr std::array<const char*, 2> broad_phase_names{"hash", "bvh"};
+inline const char* integrator_name(Integrator i) { return integrator_names[std::size_t(i)]; }
+inline const char* preconditioner_name(Preconditioner p) { return preconditioner_names[std::size_t(p)]; }
+// The value a table names `name`; false (out unchanged) when it names none.
+template <class Enum, std::size_t N>
+bool enum_from_name(const std::array<const char*, N>& names, std::string_view name, Enum& out) {
+  for (std::size_t k = 0; k < N; ++k)
+    if (name == names[k]) { out = Enum(k); return true; }
+  return false;
+}
+
 struct SimulationDesc {
   Real timestep = 0.001;       // s, requested; the step used divides a frame evenly (steps_per_frame)
   // timestep="auto": the step is chosen from the stability estimate and adapted during the run
-  // (systems/adaptive_step.h); step_safety is the fraction of the estimated limit taken, min_timestep the
+  // (systems/auto_step.h, sim/frame_stepper.h); step_safety is the fraction of the estimated limit taken, min_timestep the
   // smallest step before the run stops as diverged (0: the chosen step / 1024)
   bool timestep_auto = false;
   Real step_safety = 0.7;

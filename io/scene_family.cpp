@@ -35,7 +35,6 @@ FamilyScene family_scene(int seed, const std::string& timestep) {
   const int pins = int(3 * pick(11));                                // none, one corner, two corners
   const bool collider = pick(12) < 0.5;
   // Explicit Euler is unstable at any step without damping: it is given some where the draw has none.
-  const char* names[] = {"euler", "symplectic", "rk4"};
   const Real spring_damping = integ == 0 && damping == 0 ? 0.01 : damping;
   char buf[1400];
   std::snprintf(buf, sizeof buf, R"(<scene>
@@ -47,7 +46,7 @@ FamilyScene family_scene(int seed, const std::string& timestep) {
     %s
   </cloth>
 </scene>
-)", timestep.c_str(), names[integ], air,
+)", timestep.c_str(), integrator_name(Integrator(integ)), air,
                 collider ? R"(<sphere name="ball" center="0 -0.15 0.2" radius="0.12" friction="0.3"/>)" : "",
                 nx, ny, size, size, pins ? "90 0 0" : "0 0 0", density, stiffness, bend, spring_damping,
                 pins == 0 ? "" : pins == 1 ? "<pins vertices=\"0\"/>" : ("<pins vertices=\"0 " + std::to_string(nx - 1) + "\"/>").c_str());

@@ -4,7 +4,6 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
-#include <initializer_list>
 #include <pugixml.hpp>
 #include <set>
 #include <sstream>
@@ -14,146 +13,10 @@
 #include "core/step_count.h"
 #include "io/atomic_file.h"
 #include "io/text_file.h"
+#include "io/xml_element.h"
 
 namespace clothsim::io {
 namespace {
-
-// Reads typed attributes of one element and reports every problem with the file and the element's line.
-class ElementReader {
- public:
-  ElementReader(const std::string& file, const std::string& text, pugi::xml_node node,
-                std::initializer_list<const char*> allowed)
-      : file_(file), node_(node), line_(line_of(text, node.offset_debug())) {
-    const std::set<std::string> ok(allowed.begin(), allowed.end());
-    std::set<std::string> seen;
-    for (pugi::xml_attribute a : node.attributes()) {
-      if (!ok.count(a.name()))
-        fail("unknown attribute '" + std::string(a.name()) + "'; " +
-             (allowed.size() ? "expected one of: " + join(allowed) : std::string("expected no attributes")));
-      // pugixml keeps both copies of a repeated attribute and node.attribute() finds the first.
-      if (!seen.insert(a.name()).second) fail("attribute '" + std::string(a.name()) + "' appears twice; expected it once");
-    }
-  }
-
-  // An element that should not be there at all: reported before (and instead of) its attributes.
-  [[noreturn]] static void unknown_element(const std::string& file, const std::string& text, pugi::xml_node node,
-                                           const std::string& what) {
-    throw Error(file, line_of(text, node.offset_debug()), "<" + std::string(node.name()) + ">: " + what);
-  }
-
-  static int line_of(const std::string& text, std::ptrdiff_t offset) {
-    if (offset < 0) return 0;
-    return 1 + int(std::count(text.begin(), text.begin() + std::min<std::size_t>(offset, text.size()), '\n'));
-  }
-
-  [[noreturn]] void fail(const std::string& what) const {
-    throw Error(file_, line_, "<" + std::string(node_.name()) + ">: " + what);
-  }
-  int line() const { return line_; }
-  bool has(const char* name) const { return bool(node_.attribute(name)); }
-
-  std::string text(const char* name, std::string fallback = "") const {
-    pugi::xml_attribute a = node_.attribute(name);
-    return a ? std::string(a.value()) : fallback;
-  }
-
-  // A name or path that ends up inside an output file (an OBJ's 'o' line, a .mtl): a control character such as
-  // a newline (&#10;) would start a line of its own there.
-  std::string name_text(const char* name, std::string fallback = "") const {
-    std::string v = text(name, std::move(fallback));
-    const auto c = std::find_if(v.begin(), v.end(), [](char ch) { return (unsigned char)ch < 0x20 || ch == 0x7f; });
-    if (c != v.end())  // the value itself is not echoed: its newline would split the message
-      fail("attribute " + std::string(name) + " holds control character " + std::to_string(int(*c)) + " at position " +
-           std::to_string(c - v.begin() + 1) + "; expected a name without control characters (newline, tab, ...)");
-    return v;
-  }
-
-  Real number(const char* name, Real fallback, const char* expected = "a number") const {
-    pugi::xml_attribute a = node_.attribute(name);
-    if (!a) return fallback;
-    return parse_numbers(name, a.value(), 1, expected)[0];
-  }
-
-  Real positive(const char* name, Real fallback, const char* unit) const {
-    const std::string expected = std::string("a positive number (") + unit + ")";
-    const Real v = number(name, fallback, expected.c_str());
-    if (!(v > 0)) bad(name, expected);
-    return v;
-  }
-
-  Real non_negative(const char* name, Real fallback, const char* unit) const {
-    const std::string expected = std::string("a number >= 0 (") + unit + ")";
-    const Real v = number(name, fallback, expected.c_str());
-    if (!(v >= 0)) bad(name, expected);
-    return v;
-  }
-
-  int integer(const char* name, int fallback) const {
-    pugi::xml_attribute a = node_.attribute(name);
-    if (!a) return fallback;
-    const std::string s = trim(a.value());
-    int v = 0;
-    auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (s.empty() || ec != std::errc() || p != s.data() + s.size()) bad(name, "an integer");
-    return v;
-  }
-
-  Vec3 vec3(const char* name, const Vec3& fallback) const {
-    pugi::xml_attribute a = node_.attribute(name);
-    if (!a) return fallback;
-    const auto v = parse_numbers(name, a.value(), 3, "three numbers \"x y z\"");
-    return Vec3(v[0], v[1], v[2]);
-  }
-
-  bool boolean(const char* name, bool fallback) const {
-    pugi::xml_attribute a = node_.attribute(name);
-    if (!a) return fallback;
-    const std::string s = trim(a.value());
-    if (s == "true" || s == "1") return true;
-    if (s == "false" || s == "0") return false;
-    bad(name, "true or false");
-  }
-
-  std::vector<Real> numbers(const char* name, std::size_t count, const char* expected) const {
-    return parse_numbers(name, node_.attribute(name).value(), count, expected);
-  }
-
-  [[noreturn]] void bad(const char* name, const std::string& expected) const {
-    fail("attribute " + std::string(name) + "=\"" + node_.attribute(name).value() + "\"; expected " + expected);
-  }
-
- private:
-  static std::string trim(const std::string& s) {
-    const auto b = s.find_first_not_of(" \t\r\n");
-    if (b == std::string::npos) return "";
-    return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-  }
-  static std::string join(std::initializer_list<const char*> names) {
-    std::string s;
-    for (const char* n : names) s += (s.empty() ? "" : ", ") + std::string(n);
-    return s;
-  }
-  // `count` numbers separated by blanks (count 0: any number of them).
-  std::vector<Real> parse_numbers(const char* name, const char* value, std::size_t count, const char* expected) const {
-    std::vector<Real> out;
-    std::istringstream in(value);
-    std::string tok;
-    while (in >> tok) {
-      double v = 0;
-      const char* b = tok.data() + (tok[0] == '+' ? 1 : 0);
-      auto [p, ec] = std::from_chars(b, tok.data() + tok.size(), v);
-      if (ec != std::errc() || p != tok.data() + tok.size() || !std::isfinite(v)) bad(name, expected);
-      if (std::abs(v) > limits::max_scene_number) bad(name, std::string(expected) + ", of magnitude at most 1e12");
-      out.push_back(v);
-    }
-    if ((count > 0 && out.size() != count) || out.empty()) bad(name, expected);
-    return out;
-  }
-
-  const std::string& file_;
-  pugi::xml_node node_;
-  int line_;
-};
 
 std::string resolve(const std::string& base, const std::string& p) {
   if (p.empty()) return p;
@@ -212,12 +75,8 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
     r.fail("startFrame " + std::to_string(sim.start_frame) + " is after endFrame " + std::to_string(sim.end_frame) +
            "; expected startFrame <= endFrame");
   if (sim.end_frame > 9999) r.bad("endFrame", "a frame number <= 9999 (frames are named with 4 digits)");
-  const std::string integrator = r.text("integrator", "symplectic");
-  if (integrator == "euler") sim.integrator = Integrator::euler;
-  else if (integrator == "symplectic") sim.integrator = Integrator::symplectic;
-  else if (integrator == "rk4") sim.integrator = Integrator::rk4;
-  else if (integrator == "implicit") sim.integrator = Integrator::implicit;
-  else r.bad("integrator", "one of euler, symplectic, rk4, implicit");
+  if (!enum_from_name(integrator_names, r.text("integrator", "symplectic"), sim.integrator))
+    r.bad("integrator", "one of euler, symplectic, rk4, implicit");
   sim.gravity = r.vec3("gravity", sim.gravity);
   sim.collision_iterations = r.integer("collisionIterations", sim.collision_iterations);
   if (sim.collision_iterations < 0) r.bad("collisionIterations", "an integer >= 0");
@@ -229,17 +88,10 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
   if (sim.cg_max_iterations < 1) r.bad("cgMaxIterations", "an integer >= 1");
   sim.newton_iterations = r.integer("newtonIterations", sim.newton_iterations);
   if (sim.newton_iterations < 1) r.bad("newtonIterations", "an integer >= 1");
-  if (r.has("preconditioner")) {
-    const std::string preconditioner = r.text("preconditioner");
-    if (preconditioner == "jacobi") sim.preconditioner = Preconditioner::jacobi;
-    else if (preconditioner == "multigrid") sim.preconditioner = Preconditioner::multigrid;
-    else if (preconditioner == "cholesky") sim.preconditioner = Preconditioner::cholesky;
-    else r.bad("preconditioner", "jacobi, multigrid or cholesky");
-  }
-  const std::string broad = r.text("broadPhase", "hash");
-  if (broad == "hash") sim.broad_phase = BroadPhase::hash;
-  else if (broad == "bvh") sim.broad_phase = BroadPhase::bvh;
-  else r.bad("broadPhase", "hash or bvh");
+  if (r.has("preconditioner") && !enum_from_name(preconditioner_names, r.text("preconditioner"), sim.preconditioner))
+    r.bad("preconditioner", "jacobi, multigrid or cholesky");
+  if (!enum_from_name(broad_phase_names, r.text("broadPhase", "hash"), sim.broad_phase))
+    r.bad("broadPhase", "hash or bvh");
   sim.checkpoint_every = r.integer("checkpointEvery", sim.checkpoint_every);
   if (sim.checkpoint_every < 0) r.bad("checkpointEvery", "a number of frames >= 0 (0: no checkpoints)");
   sim.cloth_collision = r.boolean("clothCollision", sim.cloth_collision);

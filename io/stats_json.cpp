@@ -16,15 +16,12 @@ std::string format_stats(const Model& m, const RunStats& s) {
   Index pieces = 0;
   for (const ClothInfo& c : m.cloths) pieces += c.pieces;
   j.field("pieces", pieces).field("cloths", int(m.cloths.size())).field("pinned", int(m.pinned.size()));
-  const char* integrators[] = {"euler", "symplectic", "rk4", "implicit"};
-  j.field("integrator", std::string_view(integrators[int(m.integrator)]));
+  j.field("integrator", std::string_view(integrator_name(m.integrator)));
   j.field("dt", m.dt).field("steps_per_frame", m.steps_per_frame).field("steps", s.steps);
   j.field("timestep", std::string_view(m.auto_step ? "auto" : "fixed"));
   j.field("force_evaluations", s.force_evaluations).field("threads", s.threads);
   if (m.integrator == Integrator::implicit) {
-    j.field("preconditioner", std::string_view(m.preconditioner == Preconditioner::multigrid   ? "multigrid"
-                                                  : m.preconditioner == Preconditioner::cholesky ? "cholesky"
-                                                                                                 : "jacobi"));
+    j.field("preconditioner", std::string_view(preconditioner_name(m.preconditioner)));
     j.field("cg_iterations", s.cg_iterations).field("implicit_failed_steps", s.implicit_failed_steps);
   }
   if (m.strain_limited) j.field("strain_limit_iterations", s.strain_limit_iterations);

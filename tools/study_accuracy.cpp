@@ -198,12 +198,12 @@ std::vector<Point> run_ladder(const Problem& p, const StudyMethod& m, int repeat
   std::int64_t steps = p.coarsest_steps(m);
   for (int rung = 0; rung < ladder_rungs; ++rung, steps *= 2) {
     const Real h = p.end_time / Real(steps);
-    Point pt{p.name, m.name, h, timed_run(p.model, p.initial, m.integrator, h, steps, repeats), NAN, "ok"};
+    Point pt{p.name, m.name(), h, timed_run(p.model, p.initial, m.integrator, h, steps, repeats), NAN, "ok"};
     if (pt.run.finite) pt.error = rms_distance(p.model, pt.run.state.x, p.reference) / p.size;
     if (!(pt.error <= diverged_error)) pt.error = NAN;
     if (!std::isfinite(pt.error)) pt.status = "diverged";
     else if (pt.error < p.resolution) pt.status = "unresolved";
-    std::fprintf(stderr, "  %-18s %-10s h=%-10.4g error %-10.3g cpu %.3g s\n", p.name.c_str(), m.name, h, pt.error,
+    std::fprintf(stderr, "  %-18s %-10s h=%-10.4g error %-10.3g cpu %.3g s\n", p.name.c_str(), m.name(), h, pt.error,
                  pt.run.cpu_seconds);
     points.push_back(std::move(pt));
   }
@@ -231,7 +231,7 @@ std::string chart_commands(const std::vector<Problem>& problems, const std::vect
   for (const Problem& p : problems) {
     s += "set title " + quote_text(p.title) + "\nplot ";
     for (std::size_t k = 0; k < study_methods.size(); ++k) {
-      const std::string method = study_methods[k].name;
+      const std::string method = study_methods[k].name();
       std::string title = method;
       if (!work) title += " (order " + csv_number(std::round(100 * measured_order(points, p.name, method)) / 100) + ")";
       s += std::string(k ? ", \\\n     " : "") + "'accuracy.csv' every ::1 using " +
@@ -286,7 +286,7 @@ int study_accuracy(int argc, char** argv) {
   std::string orders = "problem,method,measured_order\n";
   for (const Problem& p : problems)
     for (const StudyMethod& m : study_methods)
-      orders += p.name + "," + m.name + "," + csv_number(measured_order(points, p.name, m.name)) + "\n";
+      orders += p.name + "," + m.name() + "," + csv_number(measured_order(points, p.name, m.name())) + "\n";
   std::string refs = "problem,reference,reference_step_s,reference_change,smallest_error\n";
   for (const Problem& p : problems) {
     double smallest = INFINITY;

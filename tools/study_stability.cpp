@@ -144,7 +144,7 @@ std::string chart_commands() {
       "set title 'Largest bounded time step against stiffness'\n"
       "set xlabel 'spring stiffness, N/m'\nset ylabel 'time step, s'\nplot ";
   for (std::size_t k = 0; k < study_methods.size(); ++k) {
-    const std::string m = study_methods[k].name, filter = "strcol(1) eq '" + m + "'", colour = std::to_string(k + 1);
+    const std::string m = study_methods[k].name(), filter = "strcol(1) eq '" + m + "'", colour = std::to_string(k + 1);
     s += std::string(k ? ", \\\n     " : "");
     if (std::isfinite(theory_limit(study_methods[k].integrator))) {
       s += "'stability_step.csv' every ::1 using (" + filter + " ? $2 : NaN):(strcol(6) eq 'limit' ? $4 : NaN) " +
@@ -193,9 +193,9 @@ int study_stability(int argc, char** argv) {
     const double w = chain.omega_max, theory = theory_limit(m.integrator) / w;
     const Limit lim = largest_bounded([&](double h) { return stays_bounded(chain, m.integrator, h); }, 3 / w,
                                       cap_hw / w, tolerance);
-    std::fprintf(stderr, "  %-10s k=%-8.3g w_max=%-8.4g largest bounded step %.5g s%s, theory %.5g s\n", m.name, k,
+    std::fprintf(stderr, "  %-10s k=%-8.3g w_max=%-8.4g largest bounded step %.5g s%s, theory %.5g s\n", m.name(), k,
                  w, lim.value, lim.at_cap ? " (search cap)" : "", theory);
-    step_rows[task] = std::string(m.name) + "," + csv_number(k) + "," + csv_number(w) + "," +
+    step_rows[task] = std::string(m.name()) + "," + csv_number(k) + "," + csv_number(w) + "," +
                       csv_number(lim.value) + "," + csv_number(theory) + "," +
                       (lim.at_cap ? "bounded_at_cap" : "limit") + "," +
                       csv_number(std::isfinite(theory) ? lim.value / theory : NAN) + "\n";
@@ -213,9 +213,9 @@ int study_stability(int argc, char** argv) {
     const Limit lim = largest_bounded(
         [&](double k) { return stays_bounded(make_chain(k), m.integrator, fixed_step); }, guess,
         guess * cap_hw * cap_hw, tolerance);
-    std::fprintf(stderr, "  %-10s h=%g s: largest bounded stiffness %.5g N/m%s, theory %.5g N/m\n", m.name,
+    std::fprintf(stderr, "  %-10s h=%g s: largest bounded stiffness %.5g N/m%s, theory %.5g N/m\n", m.name(),
                  fixed_step, lim.value, lim.at_cap ? " (search cap)" : "", theory);
-    stiff_rows[task] = std::string(m.name) + "," + csv_number(fixed_step) + "," + csv_number(lim.value) + "," +
+    stiff_rows[task] = std::string(m.name()) + "," + csv_number(fixed_step) + "," + csv_number(lim.value) + "," +
                        csv_number(theory) + "," + csv_number(std::isfinite(theory) ? lim.value / theory : NAN) + "," +
                        (lim.at_cap ? "bounded_at_cap" : "limit") + "\n";
   });
