@@ -19,9 +19,9 @@ struct CgResult {
 
 // Advances in by h into out; model.newton_iterations linear solves (the first is Baraff & Witkin's, later ones
 // are Newton corrections of the backward-Euler residual about the latest iterate). Records the step's health in
-// ws.solve_log while its capacity lasts (CG iterations, residual, convergence, the strain at both ends) and
-// returns failed when the result is not to be trusted (Workspace::SolveRecord::failed: a solve stopped at its
-// cap, a Newton correction raised the residual, or a spring stretched by more than SolveRecord::strain_jump).
+// ws.solve_log while its capacity lasts (CG iterations, residual, convergence) and returns failed when the
+// solve is not to be trusted (Workspace::SolveRecord::failed: a solve stopped at its cap, or a Newton correction
+// raised the residual). The strain a step made is the frame loop's check (sim/frame_stepper.h).
 StepResult integrate_implicit(const Model& model, const State& in, State& out, Workspace& ws, Real h,
                         ImplicitLayout layout = ImplicitLayout::spring_blocks);
 

@@ -1,7 +1,6 @@
 #include "systems/step.h"
 
 #include <chrono>
-#include <utility>
 
 #include "systems/attachments.h"
 #include "systems/collide.h"
@@ -44,13 +43,6 @@ StepResult step(const Model& model, const State& in, State& out, Workspace& ws, 
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   ws.seconds_integrate += total - (ws.seconds_forces - forces_before) - (ws.seconds_collide - collide_before);
   return result;
-}
-
-void step_frame(const Model& model, State& state, State& scratch, Workspace& ws) {
-  for (int k = 0; k < model.steps_per_frame; ++k) {
-    step(model, state, scratch, ws, model.dt);
-    std::swap(state, scratch);
-  }
 }
 
 }  // namespace clothsim

@@ -1,6 +1,8 @@
 #pragma once
 // One time step, built from named stages in the style of MuJoCo's mj_step:
-//   eval_forces -> integrate (explicit Euler | symplectic Euler | RK4 | backward Euler) -> strain limit -> collide
+//   integrate (forces, then explicit Euler | symplectic Euler | RK4 | backward Euler) -> attachments ->
+//   stitch limit -> strain limit -> collide.
+// The steps of a frame, and the checks between them, are sim/frame_stepper.h's.
 #include "core/model.h"
 #include "systems/step_result.h"
 
@@ -10,8 +12,5 @@ namespace clothsim {
 // model's, chosen by one switch per step, never per particle. The result says whether the step failed (only the
 // implicit solve can today).
 StepResult step(const Model& model, const State& in, State& out, Workspace& ws, Real h);
-
-// Advances one frame (model.steps_per_frame steps of model.dt), swapping between state and scratch.
-void step_frame(const Model& model, State& state, State& scratch, Workspace& ws);
 
 }  // namespace clothsim

@@ -7,9 +7,9 @@
 #include <cstring>
 
 #include "collision_scene.h"
+#include "systems/step.h"
 #include "core/attachments.h"
 #include "core/error.h"
-#include "io/cloth_maps.h"
 #include "png_fixtures.h"
 
 using namespace clothsim;
@@ -170,10 +170,9 @@ TEST_CASE("attachments: the same bytes at 1 and 2 threads") {
   std::vector<State> end;
   for (int threads : {1, 2}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    State state = sc.built.state, scratch = state;
-    Workspace ws = make_workspace(sc.built.model);
-    for (int f = 2; f <= frames; ++f) step_frame(sc.built.model, state, scratch, ws);
-    end.push_back(state);
+    sim::Simulation simulation(sc.built);
+    while (simulation.next_frame() <= frames) REQUIRE_FALSE(simulation.advance_frame().diverged);
+    end.push_back(simulation.state());
   }
   CHECK(std::memcmp(end[0].x.data(), end[1].x.data(), end[0].x.size() * sizeof(Vec3)) == 0);
   CHECK(std::memcmp(end[0].v.data(), end[1].v.data(), end[0].v.size() * sizeof(Vec3)) == 0);
@@ -183,11 +182,7 @@ TEST_CASE("attachments: map=\"image\" attaches the vertices above half grey") {
   const auto dir = scratch_dir("attach_map");
   test::write_png(dir / "waist.png", 2, 1, 1, 8, {255, 0});  // u 0.25 white (the top ring), u 0.75 black
   const auto path = write_skirt_scene(dir, "symplectic", "<attach collider=\"body\" map=\"waist.png\"/>");
-  const SceneDesc desc = io::read_scene(path.string());
-  std::vector<MeshData> meshes{io::read_obj(desc.cloths[0].obj)};
-  meshes[0].params = io::sample_cloth_maps(desc, desc.cloths[0], meshes[0]);
-  BuiltScene built = build_model(desc, meshes);
-  build_collision(desc, io::read_colliders(desc), built.state.x, built.model);
+  const BuiltScene built = load_collision_scene(path).built;
   std::vector<Index> expected(segments);
   for (int j = 0; j < segments; ++j) expected[j] = j;
   CHECK(built.model.attach_particle == expected);

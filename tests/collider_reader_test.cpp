@@ -6,6 +6,9 @@
 
 #include "cli_harness.h"
 #include "collision_scene.h"
+#include "core/build_collision.h"
+#include "io/collider_reader.h"
+#include "io/scene_xml.h"
 #include "io/collider_reader.h"
 #include "systems/collide.h"
 

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "collision_scene.h"
+#include "systems/step.h"
 #include "systems/collide.h"
 #include "systems/collision_check.h"
 #include "systems/push_out.h"

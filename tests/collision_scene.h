@@ -7,33 +7,18 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <type_traits>
 
 #include "cli_harness.h"
-#include "core/build_collision.h"
-#include "core/build_model.h"
-#include "io/collider_reader.h"
-#include "io/obj_reader.h"
-#include "io/rest_shape.h"
-#include "io/scene_xml.h"
-#include "systems/step.h"
+#include "sim/load_scene.h"
+#include "sim/simulation.h"
 
 namespace clothsim::test {
 
-struct LoadedCollisionScene {
-  SceneDesc desc;
-  BuiltScene built;
-};
+using LoadedCollisionScene = sim::LoadedScene;
 
-inline LoadedCollisionScene load_collision_scene(const std::filesystem::path& xml) {
-  LoadedCollisionScene s;
-  s.desc = io::read_scene(xml.string());
-  std::vector<MeshData> meshes;
-  for (const ClothDesc& c : s.desc.cloths) meshes.push_back(c.obj.empty() ? make_cloth_grid(c) : io::read_obj(c.obj));
-  for (std::size_t c = 0; c < meshes.size(); ++c) meshes[c].rest_positions = io::read_rest_shape(s.desc, s.desc.cloths[c], meshes[c]);
-  s.built = build_model(s.desc, meshes);
-  build_collision(s.desc, io::read_colliders(s.desc), s.built.state.x, s.built.model);
-  return s;
-}
+// The scene as `clothsim run` loads it (sim/load_scene.h): meshes, maps, rest shapes, colliders, auto step.
+inline sim::LoadedScene load_collision_scene(const std::filesystem::path& xml) { return sim::load_scene(xml.string()); }
 
 // The shared data folder beside the checkout (../shared/data), or beside the folder holding it (a worktree under
 // wt/); CLOTHSIM_SHARED_DATA overrides. Empty when absent: the tests that use it then skip.
@@ -72,15 +57,20 @@ inline std::string kick_scene(const std::filesystem::path& sequence, int first, 
 )" + cloth;
 }
 
-// Runs every frame of a scene, calling check(frame, model, state, workspace) after each.
+// Runs every frame of a scene through the run's frame loop (sim::Simulation), calling
+// check(frame, model, state, workspace) after each, or check(frame, model, state, workspace, report) for the
+// frame's figures (contacts, zones, steps). A diverged frame fails the test.
 template <class Check>
-void run_frames(LoadedCollisionScene& sc, Check&& check) {
-  const Model& m = sc.built.model;
-  State state = sc.built.state, scratch = state;
-  Workspace ws = make_workspace(m);
-  for (int f = m.start_frame; f <= m.end_frame; ++f) {
-    if (f > m.start_frame) step_frame(m, state, scratch, ws);
-    check(f, m, state, ws);
+void run_frames(const sim::LoadedScene& sc, Check&& check) {
+  sim::Simulation simulation(sc.built);
+  while (simulation.next_frame() <= simulation.model().end_frame) {
+    const sim::FrameReport r = simulation.advance_frame();
+    INFO(r.divergence);
+    REQUIRE_FALSE(r.diverged);
+    if constexpr (std::is_invocable_v<Check, int, const Model&, const State&, const Workspace&, const sim::FrameReport&>)
+      check(r.frame, simulation.model(), simulation.state(), simulation.workspace(), r);
+    else
+      check(r.frame, simulation.model(), simulation.state(), simulation.workspace());
   }
 }
 

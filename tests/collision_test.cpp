@@ -8,6 +8,7 @@
 #include <random>
 
 #include "collision_scene.h"
+#include "systems/step.h"
 #include "systems/collide.h"
 #include "systems/collision_check.h"
 #include "systems/proximity.h"

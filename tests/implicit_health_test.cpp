@@ -26,19 +26,6 @@ Workspace::SolveRecord implicit_step(const Model& m, const State& in, State& out
   return ws.solve_log.back();
 }
 
-// A horizontal spring at rest, pinned at the origin, its free end under gravity: the linearisation about rest has
-// no transverse stiffness (k (1 - rest/l) = 0), so one linearised step drops the end by g h^2 whatever k is, and
-// leaves the spring stretched by sqrt(1 + (g h^2 / rest)^2) - 1.
-Workspace::SolveRecord horizontal_spring_step(Real h, Real& strain) {
-  BuiltScene s = two_particle_spring(1e6, 0, 0.01, 0.1, 0, Integrator::implicit);
-  s.model.gravity = Vec3(0, -9.81, 0);
-  Workspace ws = make_workspace(s.model);
-  State out = s.state;
-  const Workspace::SolveRecord r = implicit_step(s.model, s.state, out, ws, h);
-  strain = std::sqrt(1 + std::pow(9.81 * h * h / 0.1, 2)) - 1;
-  return r;
-}
-
 BuiltScene stiff_sheet(Preconditioner pc) {
   GridSpec g;
   g.nx = g.ny = 8;
@@ -54,18 +41,6 @@ BuiltScene stiff_sheet(Preconditioner pc) {
 
 }  // namespace
 
-TEST_CASE("a linearised step that stretches a spring by more than strain_jump is flagged, with the strain it made") {
-  Real expected = 0;
-  const Workspace::SolveRecord big = horizontal_spring_step(0.1, expected);
-  CHECK(big.strain_before == doctest::Approx(0).epsilon(1e-12));
-  CHECK(big.strain_after == doctest::Approx(expected).epsilon(1e-9));  // 0.4007
-  CHECK(big.converged);
-  CHECK(big.failed());
-  const Workspace::SolveRecord small = horizontal_spring_step(0.01, expected);
-  CHECK(small.strain_after == doctest::Approx(expected).epsilon(1e-6));  // 4.8e-5
-  CHECK_FALSE(small.failed());
-}
-
 TEST_CASE("a CG solve stopped at its cap is reported as not converged") {
   BuiltScene s = stiff_sheet(Preconditioner::jacobi);
   s.model.cg_max_iterations = 3;
@@ -76,7 +51,6 @@ TEST_CASE("a CG solve stopped at its cap is reported as not converged") {
   CHECK(r.cg_residual > s.model.cg_tolerance);
   CHECK_FALSE(r.converged);
   CHECK(r.failed());
-  CHECK(ws.implicit_failed_total == 1);
   s.model.cg_max_iterations = 1000;
   const Workspace::SolveRecord ok = implicit_step(s.model, s.state, out, ws, 1.0 / 120);
   CHECK(ok.converged);

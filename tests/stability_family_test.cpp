@@ -7,7 +7,7 @@
 #include "collision_scene.h"
 #include "io/scene_family.h"
 #include "scene_fixtures.h"
-#include "systems/adaptive_step.h"
+#include "systems/auto_step.h"
 #include "systems/stability.h"
 
 using namespace clothsim;

@@ -4,8 +4,8 @@
 
 #include "tools/cli_args.h"
 #include "tools/commands.h"
-#include "tools/scene_loader.h"
-#include "tools/step_advice.h"
+#include "sim/load_scene.h"
+#include "sim/step_advice.h"
 
 namespace clothsim::cli {
 namespace {
@@ -35,7 +35,7 @@ int cmd_validate(int argc, char** argv) {
     return exit_ok;
   }
   if (args.positional.size() != 1) throw UsageError("expected one scene file");
-  const LoadedScene s = load_scene(args.positional[0]);
+  const sim::LoadedScene s = sim::load_scene(args.positional[0]);
   const Model& m = s.built.model;
   std::printf("%s: ok\n", args.positional[0].c_str());
   std::printf("  cloths %zu, particles %d, springs %d, triangles %d, pinned %zu, stitches %d\n", m.cloths.size(),
@@ -52,7 +52,7 @@ int cmd_validate(int argc, char** argv) {
               form(m.particle_thickness).c_str());
   // Stability limits of the springs with their damping, air damping and wind (docs/stability.md): power
   // iterations on M^-1 K and M^-1 C at rest.
-  const StableSteps limits = scene_stable_steps(m, s.built.state.x);
+  const StableSteps limits = sim::scene_stable_steps(m, s.built.state.x);
   char euler[32] = "none";
   if (limits.euler > 0) std::snprintf(euler, sizeof euler, "%.6g s", limits.euler);
   std::printf("  omega_max %.6g rad/s, damping rate up to %.6g 1/s; largest stable step: symplectic %.6g s, "
@@ -60,7 +60,7 @@ int cmd_validate(int argc, char** argv) {
               limits.rk4, euler);
   if (m.auto_step)
     std::printf("  timestep auto: %.6g s (stepSafety %g), at least %.6g s\n", m.dt, m.step_safety, m.min_dt);
-  const std::string warning = step_warning(m, limits);
+  const std::string warning = sim::step_warning(m, limits);
   if (!warning.empty()) std::printf("  %s\n", warning.c_str());
   print_setting_warnings(s.desc, m);
   return exit_ok;

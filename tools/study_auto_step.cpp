@@ -8,11 +8,11 @@
 
 #include "io/atomic_file.h"
 #include "io/scene_family.h"
-#include "systems/adaptive_step.h"
+#include "sim/load_scene.h"
+#include "systems/auto_step.h"
 #include "systems/stability.h"
 #include "tools/cli_args.h"
 #include "tools/commands.h"
-#include "tools/scene_loader.h"
 #include "tools/studies.h"
 
 namespace clothsim::cli {
@@ -33,8 +33,7 @@ struct Row {
 };
 
 Row study_scene(const std::string& name, const Model& model, const State& start, Real seconds) {
-  const char* integrators[] = {"euler", "symplectic", "rk4", "implicit"};
-  Row row{name, integrators[int(model.integrator)]};
+  Row row{name, integrator_name(model.integrator)};
   Model automatic = model;
   automatic.auto_step = true;
   choose_auto_step(automatic, start.x, name);
@@ -69,7 +68,7 @@ int study_auto_step(int argc, char** argv) {
   std::puts("| scene | integrator | auto step, s | largest stable step, s | largest / auto |\n|---|---|---|---|---|");
   int outside = 0;
   for (const std::string& path : scenes) {
-    LoadedScene loaded = load_scene(path);
+    sim::LoadedScene loaded = sim::load_scene(path);
     if (loaded.built.model.integrator == Integrator::implicit) continue;
     io::perturb_start(loaded.built.model, loaded.built.state, 1e-4);
     const Row r = study_scene(std::filesystem::path(path).filename().string(), loaded.built.model,

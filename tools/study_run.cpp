@@ -14,7 +14,7 @@
 #include "systems/diagnostics.h"
 #include "systems/step.h"
 #include "tools/cli_args.h"
-#include "tools/cpu_clock.h"
+#include "sim/cpu_clock.h"
 
 namespace clothsim::cli {
 
@@ -57,7 +57,7 @@ TimedRun timed_run(const Model& base, const State& initial, Integrator integrato
   for (int r = 0; r < repeats; ++r) {
     State state = initial, scratch = initial;
     ws.force_evaluations = 0;
-    const double t0 = thread_cpu_seconds();
+    const double t0 = sim::thread_cpu_seconds();
     std::int64_t k = 0;
     bool finite = true;
     for (; k < steps; ++k) {
@@ -66,7 +66,7 @@ TimedRun timed_run(const Model& base, const State& initial, Integrator integrato
       // A diverging run is cut short; checked sparsely so the check costs nothing measurable.
       if ((k & 1023) == 1023 && !(finite = state_is_finite(state))) { ++k; break; }
     }
-    const double seconds = thread_cpu_seconds() - t0;
+    const double seconds = sim::thread_cpu_seconds() - t0;
     finite = finite && state_is_finite(state);
     if (r == 0 || seconds < best.cpu_seconds) {
       best.state = std::move(state);

@@ -14,11 +14,11 @@
 
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "sim/load_scene.h"
+#include "sim/simulation.h"
 #include "systems/diagnostics.h"
-#include "systems/step.h"
 #include "tools/cli_args.h"
 #include "tools/commands.h"
-#include "tools/scene_loader.h"
 #include "tools/studies.h"
 
 namespace clothsim::cli {
@@ -87,17 +87,18 @@ struct RunResult {
   bool diverged = false;
 };
 
+// `frames` frames through the run's frame loop; the clock covers the frames (steps and the divergence guard),
+// not the hashing.
 RunResult run_frames(const BuiltScene& built, int frames) {
-  const Model& m = built.model;
-  State state = built.state, scratch = built.state;
-  Workspace ws = make_workspace(m);
+  sim::Simulation simulation(built);
+  simulation.advance_frame();  // the start frame: the initial state, no step
   RunResult r;
   for (int f = 0; f < frames; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
-    step_frame(m, state, scratch, ws);
+    const sim::FrameReport report = simulation.advance_frame();
     r.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (!state_is_finite(state)) { r.diverged = true; return r; }
-    r.hash = hash_state(r.hash, state);
+    if (report.diverged) { r.diverged = true; return r; }
+    r.hash = hash_state(r.hash, simulation.state());
   }
   return r;
 }
@@ -143,7 +144,7 @@ int study_scaling(int argc, char** argv) {
   const std::filesystem::path dir = args.get("--out", ".");
   io::ensure_writable_dir(dir.string());
 
-  LoadedScene loaded = load_scene(args.positional[0]);
+  sim::LoadedScene loaded = sim::load_scene(args.positional[0]);
   const Model& base = loaded.built.model;
   const int frames = args.has("--frames") ? parse_int("--frames", args.get("--frames"), 1)
                                           : base.end_frame - base.start_frame;

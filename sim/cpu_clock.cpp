@@ -1,8 +1,8 @@
-#include "tools/cpu_clock.h"
+#include "sim/cpu_clock.h"
 
 #include <ctime>
 
-namespace clothsim::cli {
+namespace clothsim::sim {
 namespace {
 
 double seconds_of(clockid_t clock) {
@@ -16,4 +16,4 @@ double seconds_of(clockid_t clock) {
 double thread_cpu_seconds() { return seconds_of(CLOCK_THREAD_CPUTIME_ID); }
 double process_cpu_seconds() { return seconds_of(CLOCK_PROCESS_CPUTIME_ID); }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::sim

@@ -1,4 +1,4 @@
-#include "tools/scene_loader.h"
+#include "sim/load_scene.h"
 
 #include <chrono>
 
@@ -8,11 +8,11 @@
 #include "io/obj_reader.h"
 #include "io/rest_shape.h"
 #include "io/scene_xml.h"
-#include "systems/adaptive_step.h"
+#include "systems/auto_step.h"
 #include "io/text_file.h"
-#include "tools/cpu_clock.h"
+#include "sim/cpu_clock.h"
 
-namespace clothsim::cli {
+namespace clothsim::sim {
 
 LoadedScene load_scene(const std::string& path) {
   using clock = std::chrono::steady_clock;
@@ -39,4 +39,4 @@ LoadedScene load_scene(const std::string& path) {
   return s;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::sim

@@ -7,7 +7,7 @@
 #include "core/model.h"
 #include "systems/stability.h"
 
-namespace clothsim::cli {
+namespace clothsim::sim {
 
 // The damped limits for the scene at rest (power iterations: systems/stability.h).
 StableSteps scene_stable_steps(const Model& model, std::span<const Vec3> x_rest);
@@ -20,4 +20,4 @@ std::string step_remedy(const Model& model, const StableSteps& limits, Real dive
 // The validate warning for the scene's step, or "" when it is within the advised step.
 std::string step_warning(const Model& model, const StableSteps& limits);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::sim

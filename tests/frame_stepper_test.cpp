@@ -1,25 +1,31 @@
-// timestep="auto": the chosen step, rejection that keeps the state, halving and growing back, determinism.
+// The frame's steps (sim/frame_stepper.h): with timestep="auto", the chosen step, rejection that keeps the state,
+// halving and growing back, determinism; with a fixed step, the implicit step's checks reported.
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
 
+#include <cmath>
 #include <cstring>
 
 #include "collision_scene.h"
 #include "io/scene_family.h"
-#include "systems/adaptive_step.h"
+#include "sim/frame_stepper.h"
+#include "scene_fixtures.h"
+#include "systems/auto_step.h"
 #include "systems/diagnostics.h"
+#include "systems/spring_forces.h"
 
 using namespace clothsim;
 using namespace clothsim::test;
+using clothsim::sim::FrameStepper;
+using clothsim::sim::FrameSteps;
+using clothsim::sim::StepVerdict;
 
 namespace {
 
 BuiltScene load_auto(const std::string& name, const std::string& xml) {
   const auto dir = scratch_dir(name);
   write_text(dir / "scene.xml", xml);
-  LoadedCollisionScene s = load_collision_scene(dir / "scene.xml");
-  if (s.built.model.auto_step) choose_auto_step(s.built.model, s.built.state.x, "scene.xml");
-  return std::move(s.built);
+  return std::move(load_collision_scene(dir / "scene.xml").built);
 }
 
 bool same_bytes(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
@@ -30,7 +36,7 @@ bool same_bytes(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
 bool run_frames(const BuiltScene& b, State& state, FrameSteps& total, int frames = 1) {
   State scratch = state;
   Workspace ws = make_workspace(b.model);
-  AdaptiveStepper stepper(b.model, b.state);
+  FrameStepper stepper(b.model, b.state);
   for (int f = 0; f < frames; ++f) {
     FrameSteps r;
     const bool ok = stepper.advance_frame(b.model, state, scratch, ws, r);
@@ -105,4 +111,36 @@ TEST_CASE("too large a step is halved until stable and grows back with the same 
   CHECK(r1.rejected == r2.rejected);
   CHECK(same_bytes(one.x, two.x));
   CHECK(same_bytes(one.v, two.v));
+}
+
+// A horizontal spring at rest, pinned at the origin, its free end under gravity: the linearisation about rest has
+// no transverse stiffness (k (1 - rest/l) = 0), so one backward-Euler step drops the end by g h^2 whatever k is,
+// and leaves the spring stretched by sqrt(1 + (g h^2 / rest)^2) - 1.
+TEST_CASE("a fixed implicit step that stretches a spring by more than strain_jump is kept and reported with its strain") {
+  for (const Real h : {0.1, 0.01}) {
+    CAPTURE(h);
+    BuiltScene b = two_particle_spring(1e6, 0, 0.01, 0.1, 0, Integrator::implicit);
+    b.model.gravity = Vec3(0, -9.81, 0);
+    b.model.dt = h;
+    b.model.steps_per_frame = 1;
+    State state = b.state, scratch = b.state;
+    Workspace ws = make_workspace(b.model);
+    FrameStepper stepper(b.model, b.state);
+    FrameSteps r;
+    REQUIRE(stepper.advance_frame(b.model, state, scratch, ws, r));
+    const Real expected = std::sqrt(1 + std::pow(9.81 * h * h / 0.1, 2)) - 1;  // 0.4007 and 4.8e-5
+    CHECK(r.taken == 1);
+    CHECK(r.rejected == 0);
+    CHECK(state.step == 1);  // kept: a fixed step is reported, not retried
+    if (h == 0.1) {
+      REQUIRE(r.failed == 1);
+      CHECK(r.first_failure.verdict == StepVerdict::strain_jump);
+      CHECK(r.first_failure.strain_before == doctest::Approx(0).epsilon(1e-12));
+      CHECK(r.first_failure.strain_after == doctest::Approx(expected).epsilon(1e-9));
+      CHECK(r.first_failure.solve.converged);
+    } else {
+      CHECK(r.failed == 0);
+      CHECK(max_spring_strain(b.model, state.x) == doctest::Approx(expected).epsilon(1e-6));
+    }
+  }
 }

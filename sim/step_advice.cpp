@@ -1,12 +1,12 @@
-#include "tools/step_advice.h"
+#include "sim/step_advice.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "systems/adaptive_step.h"
+#include "systems/auto_step.h"
 
-namespace clothsim::cli {
+namespace clothsim::sim {
 namespace {
 
 std::string seconds(Real s) {
@@ -78,4 +78,4 @@ std::string step_warning(const Model& m, const StableSteps& limits) {
          step_remedy(m, limits);
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::sim

@@ -1,12 +1,12 @@
 #pragma once
-// Scene file -> meshes -> Model, timed by phase; shared by `run` and `validate`.
+// Scene file -> meshes -> Model, timed by phase: what `run`, `validate`, the studies and the tests load.
 #include <cstdint>
 #include <string>
 
 #include "core/build_model.h"
 #include "core/scene_desc.h"
 
-namespace clothsim::cli {
+namespace clothsim::sim {
 
 struct LoadedScene {
   SceneDesc desc;
@@ -20,4 +20,4 @@ struct LoadedScene {
 
 LoadedScene load_scene(const std::string& path);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim::sim

@@ -1,0 +1,117 @@
+#include "sim/frame_stepper.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "systems/diagnostics.h"
+#include "systems/spring_forces.h"
+#include "systems/stability.h"
+#include "systems/step.h"
+
+namespace clothsim::sim {
+
+namespace {
+constexpr int max_level = 40;  // halvings; min_dt stops far earlier
+
+void count_accepted(FrameSteps& report, Real h) {
+  ++report.taken;
+  report.smallest = report.taken == 1 ? h : std::min(report.smallest, h);
+  report.largest = std::max(report.largest, h);
+}
+
+// The implicit solve's record of the step just taken, when it logged one.
+Workspace::SolveRecord last_solve(const Workspace& ws) {
+  return ws.solve_log.empty() ? Workspace::SolveRecord{} : ws.solve_log.back();
+}
+}  // namespace
+
+const char* verdict_name(StepVerdict v) {
+  switch (v) {
+    case StepVerdict::none: return "accepted";
+    case StepVerdict::failed_solve:
+      return "its linear solve stopped at cgMaxIterations or a Newton correction raised the residual";
+    case StepVerdict::non_finite: return "non-finite positions or velocities";
+    case StepVerdict::strain_jump: return "the largest strain jumped by more than 0.1 in one step";
+    case StepVerdict::energy_jump: return "the mechanical energy rose past its bound";
+  }
+  return "";
+}
+
+FrameStepper::FrameStepper(const Model& m, const State& start) : x_start_(start.x) {
+  energy_start_ = mechanical_energy(m, start, x_start_);
+  energy_bound_ = energy_rise_bound(m, x_start_);
+}
+
+Real FrameStepper::current_step(const Model& m) const { return std::ldexp(m.dt, -level_); }
+
+Real FrameStepper::energy_rise(const Model& m, const State& state) const {
+  return mechanical_energy(m, state, x_start_) - energy_start_;
+}
+
+void FrameStepper::fixed_frame(const Model& m, State& state, State& scratch, Workspace& ws, FrameSteps& report) {
+  // Only backward Euler can fail inside a step without leaving non-finite values; its strain check costs a pass
+  // over the springs, shared between consecutive steps.
+  const bool check = m.integrator == Integrator::implicit;
+  Real strain = check ? max_spring_strain(m, state.x) : 0;
+  for (int k = 0; k < m.steps_per_frame; ++k) {
+    const StepResult result = step(m, state, scratch, ws, m.dt);
+    std::swap(state, scratch);
+    count_accepted(report, m.dt);
+    if (!check) continue;
+    const Real strain_after = max_spring_strain(m, state.x);
+    const StepVerdict verdict = result.failed                        ? StepVerdict::failed_solve
+                                : strain_after > strain + strain_jump ? StepVerdict::strain_jump
+                                                                      : StepVerdict::none;
+    if (verdict != StepVerdict::none && report.failed++ == 0)
+      report.first_failure = {verdict, m.dt, strain, strain_after, last_solve(ws)};
+    strain = strain_after;
+  }
+}
+
+bool FrameStepper::advance_frame(const Model& m, State& state, State& scratch, Workspace& ws,
+                                 FrameSteps& report) {
+  report = {};
+  if (!m.auto_step) {
+    fixed_frame(m, state, scratch, ws, report);
+    return true;
+  }
+  level_ = 0;
+  easy_ = 0;
+  Real strain = max_spring_strain(m, state.x);
+  // Position inside the frame in steps of the current level; the frame ends at steps_per_frame << level.
+  std::int64_t pos = 0;
+  while (pos < (std::int64_t(m.steps_per_frame) << level_)) {
+    const Real h = current_step(m);
+    const StepResult result = step(m, state, scratch, ws, h);
+    StepVerdict verdict = StepVerdict::none;
+    Real strain_after = strain;
+    if (result.failed) verdict = StepVerdict::failed_solve;
+    else if (!state_is_finite(scratch)) verdict = StepVerdict::non_finite;
+    else if ((strain_after = max_spring_strain(m, scratch.x)) > strain + strain_jump) verdict = StepVerdict::strain_jump;
+    else if (!(energy_rise(m, scratch) <= energy_bound_)) verdict = StepVerdict::energy_jump;
+    if (verdict != StepVerdict::none) {
+      // Rejected: state still holds the step's start, untouched (step wrote into scratch only).
+      ++report.rejected;
+      last_ = verdict;
+      if (0.5 * h < m.min_dt || level_ >= max_level) return false;
+      ++level_;
+      pos *= 2;
+      easy_ = 0;
+      continue;
+    }
+    std::swap(state, scratch);
+    strain = strain_after;
+    ++pos;
+    count_accepted(report, h);
+    // Grow back after a run of easy steps, when the doubled step still ends on the frame.
+    if (++easy_ >= grow_after && level_ > 0 && pos % 2 == 0) {
+      --level_;
+      pos /= 2;
+      easy_ = 0;
+    }
+  }
+  return true;
+}
+
+}  // namespace clothsim::sim

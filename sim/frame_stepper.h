@@ -1,0 +1,73 @@
+#pragma once
+// The steps of one frame (docs/stability.md, "Automatic steps"). With a fixed timestep: steps_per_frame steps of
+// dt; each implicit step is checked and one that fails its check is kept and reported. With timestep="auto": a
+// step that fails its check is rejected and retried at half the size, growing back when steps are easy.
+#include <span>
+#include <vector>
+
+#include "core/model.h"
+
+namespace clothsim::sim {
+
+// Why a step failed its check; `none` for a sound one.
+enum class StepVerdict { none, failed_solve, non_finite, strain_jump, energy_jump };
+const char* verdict_name(StepVerdict verdict);
+
+// A step that failed its check and was kept (fixed timestep), as `run` reports it.
+struct StepFailure {
+  StepVerdict verdict = StepVerdict::none;
+  Real step = 0;                             // s
+  Real strain_before = 0, strain_after = 0;  // largest spring strain (|d| - rest)/rest at the step's ends
+  Workspace::SolveRecord solve;              // the implicit solve's record
+};
+
+// Steps of one frame, for --stats and the run's warning.
+struct FrameSteps {
+  int taken = 0, rejected = 0;
+  Real smallest = 0, largest = 0;  // s, accepted steps
+  int failed = 0;                  // accepted steps that failed their check (fixed timestep only)
+  StepFailure first_failure;       // the first of them
+};
+
+// The checks: a step fails when its result failed (the implicit solve stopped at cgMaxIterations or a Newton
+// correction raised the residual), is not finite, raises the largest spring strain by more than strain_jump in
+// one step, or takes the mechanical energy past its start by more than the run's bound (energy_rise_bound,
+// systems/stability.h). With a fixed timestep only the implicit integrator's steps are checked, on the solve and
+// the strain; the frame's end is checked by the run's divergence guard (sim/simulation.h).
+//
+// A rejection keeps the state the step started from (step writes into scratch only), halves the step and
+// retries; after grow_after accepted steps in a row the step doubles again, up to model.dt, when that keeps the
+// frame's steps aligned. Each frame starts again at model.dt, so a frame's steps depend on its start state alone
+// and a run resumed from a checkpoint takes the same steps. Every decision uses deterministic sums: the steps
+// are the same at any thread count.
+class FrameStepper {
+ public:
+  // More than this rise of the largest spring strain within one step is far beyond what a converged step of cloth
+  // does: the linearisation about the step's start was taken too far.
+  static constexpr Real strain_jump = 0.1;
+  static constexpr int grow_after = 16;
+
+  // start: the scene's initial state (energies are measured from it, as the run's divergence guard does).
+  FrameStepper(const Model& model, const State& start);
+  // Advances state by one frame; false when a step below model.min_dt was rejected (timestep="auto" only): state
+  // is then the last accepted one, inside the frame.
+  bool advance_frame(const Model& model, State& state, State& scratch, Workspace& ws, FrameSteps& report);
+  StepVerdict last_rejection() const { return last_; }
+  // The step the stepper takes now: model.dt with a fixed timestep.
+  Real current_step(const Model& model) const;
+
+  // The divergence guard's terms: the mechanical energy's rise since the start, J, and its bound.
+  Real energy_rise(const Model& model, const State& state) const;
+  Real energy_bound() const { return energy_bound_; }
+  std::span<const Vec3> start_positions() const { return x_start_; }
+
+ private:
+  void fixed_frame(const Model& model, State& state, State& scratch, Workspace& ws, FrameSteps& report);
+  std::vector<Vec3> x_start_;
+  Real energy_start_ = 0, energy_bound_ = 0;
+  int level_ = 0;  // step = model.dt / 2^level
+  int easy_ = 0;   // accepted steps in a row at this level
+  StepVerdict last_ = StepVerdict::none;
+};
+
+}  // namespace clothsim::sim

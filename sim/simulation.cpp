@@ -1,0 +1,86 @@
+#include "sim/simulation.h"
+
+#include <cmath>
+#include <cstdio>
+#include <utility>
+
+#include "sim/step_advice.h"
+#include "systems/diagnostics.h"
+#include "systems/spring_forces.h"
+#include "systems/stability.h"
+
+namespace clothsim::sim {
+
+Simulation::Simulation(BuiltScene built)
+    : model_(std::move(built.model)),
+      state_(std::move(built.state)),
+      scratch_(state_),
+      ws_(make_workspace(model_)),
+      stepper_(model_, state_),
+      next_frame_(model_.start_frame) {}
+
+void Simulation::resume(State state, int frame) {
+  state_ = std::move(state);
+  scratch_ = state_;
+  next_frame_ = frame + 1;
+}
+
+std::string describe_failure(const Model& model, const StepFailure& f, int frame) {
+  char text[400];
+  if (f.verdict == StepVerdict::failed_solve && !f.solve.converged)
+    std::snprintf(text, sizeof text, "frame %d: CG stopped at relative residual %.3g above cgTolerance %.3g "
+                  "(cgMaxIterations %d): raise cgMaxIterations or use preconditioner=\"cholesky\"", frame,
+                  f.solve.cg_residual, model.cg_tolerance, model.cg_max_iterations);
+  else if (f.verdict == StepVerdict::failed_solve)
+    std::snprintf(text, sizeof text, "frame %d: a Newton correction raised the backward-Euler residual: take a "
+                  "smaller timestep", frame);
+  else
+    std::snprintf(text, sizeof text, "frame %d: the largest spring strain went from %.3g to %.3g in one step of "
+                  "%.3g s, past the %.2g a step can be trusted with: take a smaller timestep or more "
+                  "newtonIterations", frame, f.strain_before, f.strain_after, f.step, FrameStepper::strain_jump);
+  return text;
+}
+
+FrameReport Simulation::advance_frame() {
+  FrameReport r;
+  r.frame = next_frame_++;
+  ws_.solve_log.clear();
+  bool stepped = true;
+  if (r.frame > model_.start_frame) stepped = stepper_.advance_frame(model_, state_, scratch_, ws_, r.steps);
+  // The divergence guard (docs/stability.md): every frame is checked before anyone writes it.
+  const bool finite = state_is_finite(state_);
+  const Real energy_rise = finite ? stepper_.energy_rise(model_, state_) : 0;
+  if (!stepped || !finite || !(energy_rise <= stepper_.energy_bound())) {
+    char reason[200];
+    if (!stepped)
+      std::snprintf(reason, sizeof reason, "a step below minTimestep %.3g s was rejected: %s", model_.min_dt,
+                    verdict_name(stepper_.last_rejection()));
+    else if (finite)
+      std::snprintf(reason, sizeof reason, "the mechanical energy rose by %.3g J, past the bound %.3g J",
+                    energy_rise, stepper_.energy_bound());
+    else
+      std::snprintf(reason, sizeof reason, "non-finite positions or velocities");
+    const Real failed_step = stepper_.current_step(model_);
+    const std::string remedy =
+        step_remedy(model_, scene_stable_steps(model_, stepper_.start_positions()), failed_step);
+    char text[600];
+    std::snprintf(text, sizeof text, "frame %d, step %lld: the simulation diverged (%s); no frame from here on "
+                  "was written. The step was %.3g s: %s.", r.frame, static_cast<long long>(state_.step), reason,
+                  failed_step, remedy.c_str());
+    r.diverged = true;
+    r.divergence = text;
+    return r;
+  }
+  r.max_strain = max_spring_strain(model_, state_.x);
+  r.kinetic_energy = kinetic_energy(model_, state_.v);
+  r.solves = ws_.solve_log;
+  r.contacts = ws_.collision.contacts_found;
+  ws_.collision.contacts_found = 0;
+  r.zones = ws_.collision.zones.figures;
+  ws_.collision.zones.figures = {};
+  if (r.steps.failed > 0 && failed_steps_ == 0) first_failure_ = describe_failure(model_, r.steps.first_failure, r.frame);
+  failed_steps_ += r.steps.failed;
+  return r;
+}
+
+}  // namespace clothsim::sim

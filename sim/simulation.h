@@ -1,0 +1,64 @@
+#pragma once
+// The one frame loop every front end shares (DESIGN.md, "The way data flows"): a scene's Model, State and
+// Workspace, advanced a frame at a time with the scene's step control (sim/frame_stepper.h) and the divergence
+// guard of docs/stability.md, reporting what `run --stats` writes. `clothsim run`, the studies, the benchmarks
+// and the tests step frames through it.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/build_model.h"
+#include "core/model.h"
+#include "sim/frame_stepper.h"
+
+namespace clothsim::sim {
+
+struct FrameReport {
+  int frame = 0;            // the frame the state is now at
+  FrameSteps steps;         // steps taken and rejected, and accepted ones that failed their check
+  bool diverged = false;    // the state is not to be written: see `divergence`
+  std::string divergence;   // why, with the step that failed and the remedy, in words; empty unless diverged
+  Real max_strain = 0;      // largest (|d| - rest)/rest over all springs at the frame's end
+  Real kinetic_energy = 0;  // J
+  std::vector<Workspace::SolveRecord> solves;  // the frame's implicit solves, in step order
+  std::int64_t contacts = 0;                   // contacts found by the first collision pass of each step
+  ZoneFigures zones;                           // the impact zones of the frame's steps
+};
+
+class Simulation {
+ public:
+  // The scene's initial state is the divergence guard's reference (its energy and rest positions).
+  explicit Simulation(BuiltScene built);
+
+  const Model& model() const { return model_; }
+  const State& state() const { return state_; }
+  Workspace& workspace() { return ws_; }
+  const Workspace& workspace() const { return ws_; }
+  // The frame advance_frame computes next: the scene's startFrame at first.
+  int next_frame() const { return next_frame_; }
+  // Steps that failed their check and were kept (fixed timestep), over the run, and the first of them.
+  std::int64_t failed_steps() const { return failed_steps_; }
+  const std::string& first_failure() const { return first_failure_; }
+
+  // Continues from `state`, the state at `frame` (a checkpoint): the next frame computed is frame + 1. The
+  // guard keeps measuring from the scene's initial state, so a resumed run is judged like a whole one.
+  void resume(State state, int frame);
+
+  // Computes next_frame(): at the start frame the initial state itself, after it one frame of steps. When the
+  // report says diverged, the state is the last one reached and nothing further should be asked of it.
+  FrameReport advance_frame();
+
+ private:
+  Model model_;
+  State state_, scratch_;
+  Workspace ws_;
+  FrameStepper stepper_;
+  int next_frame_;
+  std::int64_t failed_steps_ = 0;
+  std::string first_failure_;
+};
+
+// The sentence `run` prints for a step that failed its check and was kept.
+std::string describe_failure(const Model& model, const StepFailure& failure, int frame);
+
+}  // namespace clothsim::sim
