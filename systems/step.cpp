@@ -4,7 +4,7 @@
 #include <utility>
 
 #include "systems/attachments.h"
-#include "systems/collide.h"
+#include "systems/collision/collide.h"
 #include "systems/forces.h"
 #include "systems/integrate_explicit.h"
 #include "systems/integrate_implicit.h"

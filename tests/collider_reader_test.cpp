@@ -7,7 +7,7 @@
 #include "cli_harness.h"
 #include "collision_scene.h"
 #include "io/collider_reader.h"
-#include "systems/collide.h"
+#include "systems/collision/collide.h"
 
 using namespace clothsim;
 using namespace clothsim::test;

@@ -8,9 +8,9 @@
 #include <random>
 
 #include "collision_scene.h"
-#include "systems/collide.h"
-#include "systems/collision_check.h"
-#include "systems/proximity.h"
+#include "systems/collision/collide.h"
+#include "systems/collision/collision_check.h"
+#include "systems/collision/proximity.h"
 
 using namespace clothsim;
 using clothsim::test::load_collision_scene;

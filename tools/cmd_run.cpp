@@ -16,7 +16,7 @@
 #include "io/obj_writer.h"
 #include "io/stats_json.h"
 #include "systems/adaptive_step.h"
-#include "systems/collision_check.h"
+#include "systems/collision/collision_check.h"
 #include "systems/diagnostics.h"
 #include "systems/normals.h"
 #include "systems/spring_forces.h"

@@ -1,4 +1,4 @@
-#include "systems/impact_zones.h"
+#include "systems/collision/impact_zones.h"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "systems/collide.h"
+#include "systems/collision/collide.h"
 
 #include <tbb/parallel_reduce.h>
 
@@ -7,14 +7,14 @@
 #include <chrono>
 #include <mutex>
 
-#include "systems/bvh.h"
-#include "systems/ccd.h"
-#include "systems/collision_response.h"
-#include "systems/impact_zones.h"
+#include "systems/collision/bvh.h"
+#include "systems/collision/ccd.h"
+#include "systems/collision/response.h"
+#include "systems/collision/impact_zones.h"
 #include "systems/parallel.h"
-#include "systems/proximity.h"
-#include "systems/push_out.h"
-#include "systems/spatial_hash.h"
+#include "systems/collision/proximity.h"
+#include "systems/collision/push_out.h"
+#include "systems/collision/spatial_hash.h"
 
 namespace clothsim {
 namespace {
@@ -388,10 +388,10 @@ std::int64_t apply_accumulated(const Model& m, State& out, CollisionScratch& s) 
       [](std::int64_t a, std::int64_t b) { return a + b; });
 }
 
-// Edge x[0]x[1] of a cloth against edge x[2]x[3] (another cloth edge, or a collider edge), moving linearly from
-// x0 to x1 over the step (Bridson et al. 2002 §4): true when they meet within the thickness during the step and
-// end closer than it along the direction back to the side they came from (crossing_normal, systems/ccd.h); n
-// and d are that direction and the end-of-step distance along it.
+// Edge x[0]x[1] of a cloth against edge x[2]x[3] (another cloth edge, or a collider edge), moving linearly from x0 to
+// x1 over the step (Bridson et al. 2002 §4): true when they meet within the thickness during the step and end closer
+// than it along the direction back to the side they came from (crossing_normal, systems/collision/ccd.h); n and d are
+// that direction and the end-of-step distance along it.
 bool edge_edge_crossing(const Vec3 x0[4], const Vec3 x1[4], Real thick, EdgeProximity& px, Vec3& n, Real& d) {
   Real when;
   if (!edge_edge_ccd(x0, x1, thick, when, px)) return false;
@@ -557,14 +557,14 @@ std::int64_t collide_continuous(const Model& m, const State& in, State& out, Col
   return apply_accumulated(m, out, s);
 }
 
-// Rigid impact zones (systems/impact_zones.h), after continuous passes that left crossings: each pass finds the
-// pairs the continuous pass would still respond to (for_each_crossing), merges their nodes (cloth particles;
-// collider vertices as node particle_count + v) into zones, and moves the zones that grew, until a pass finds
-// none. It stops early, the step counted as unresolved, when a pass merges nothing (every pair found lies within
-// one zone) or after model.collision.zone_iterations passes. The pairs are those of the continuous pass, met
-// within the thickness, not only actual crossings: a squeezed sheet left micrometres from a body would otherwise
-// be held there by its zone, crossing and all (docs/performance.md, "Rigid impact zones"). So an unresolved step
-// may end with pairs that only graze within the thickness.
+// Rigid impact zones (systems/collision/impact_zones.h), after continuous passes that left crossings: each pass finds
+// the pairs the continuous pass would still respond to (for_each_crossing), merges their nodes (cloth particles;
+// collider vertices as node particle_count + v) into zones, and moves the zones that grew, until a pass finds none.
+// It stops early, the step counted as unresolved, when a pass merges nothing (every pair found lies within one zone)
+// or after model.collision.zone_iterations passes. The pairs are those of the continuous pass, met within the
+// thickness, not only actual crossings: a squeezed sheet left micrometres from a body would otherwise be held there
+// by its zone, crossing and all (docs/performance.md, "Rigid impact zones"). So an unresolved step may end with pairs
+// that only graze within the thickness.
 void resolve_impact_zones(const Model& m, const State& in, State& out, CollisionScratch& s, BroadMode mode, Real h) {
   const CollisionModel& c = m.collision;
   ZoneScratch& z = s.zones;
