@@ -9,7 +9,7 @@ void apply_attachments(const Model& m, const State& in, State& out, Real h) {
   const Index n = Index(m.attach_particle.size());
   if (n == 0) return;
   const CollisionModel& c = m.collision;
-  // The end of the step at the time place_colliders (systems/collision/collide.h) gives the colliders: the same
+  // The end of the step at the time place_colliders (systems/collision/colliders.h) gives the colliders: the same
   // vertices.
   const Real t = in.time + h;
   parallel_over(n, particle_grain, [&](Index k) {
