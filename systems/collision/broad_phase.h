@@ -84,4 +84,53 @@ void for_each_collider_vertex_pair(const Model& m, const State& in, const State&
   });
 }
 
+// Every cloth edge e against the edges of the prims its swept box q meets, the one edge-edge walk of the proximity
+// and continuous passes: self-colliding cloths' edges against each other (each pair once, from the lower edge id;
+// neither adjacent edges nor edges of cloths that do not collide), and every cloth edge against collider-mesh edges
+// (each reported by its lowest triangle). on_pair(e, q, p, x0, x1, fixed, f) with q the cloth edge's swept box,
+// p the four particles (collider vertices for p[2], p[3] when `fixed`), x0 and x1 pointers to their positions at
+// the start and end of the step, and f the other edge (a cloth edge, or a collider edge when fixed).
+template <class OnPair>
+void for_each_edge_pair(const Model& m, const State& in, const State& out, const CollisionScratch& s,
+                        BroadMode mode, OnPair&& on_pair) {
+  const CollisionModel& c = m.collision;
+  const bool meshes = !c.mesh_edge_a.empty();
+  if (!c.cloth_contact && !meshes) return;
+  parallel_over(Index(c.edge_a.size()), contact_grain, [&](Index e) {
+    if (!meshes && !c.edge_contact[e]) return;
+    const Index a = c.edge_a[e], b = c.edge_b[e];
+    Aabb q = swept_box(in.x[a], out.x[a]);
+    grow(q, in.x[b]);
+    grow(q, out.x[b]);
+    for_each_candidate(m, s, mode, q, [&](Index slot) {
+      const Index prim = c.prim[slot];
+      if (prim >= m.tri_count) {
+        const Index tri = prim - m.tri_count;
+        for (int k = 0; k < 3; ++k) {
+          const Index g = c.mesh_tri_edge[3 * tri + k];
+          if (c.mesh_edge_first_tri[g] != tri) continue;
+          const Index ga = c.mesh_edge_a[g], gb = c.mesh_edge_b[g];
+          const Vec3* const x0[4] = {&in.x[a], &in.x[b], &s.collider_x0[ga], &s.collider_x0[gb]};
+          const Vec3* const x1[4] = {&out.x[a], &out.x[b], &s.collider_x1[ga], &s.collider_x1[gb]};
+          const Index p[4] = {a, b, ga, gb};
+          on_pair(e, q, p, x0, x1, true, g);
+        }
+        return;
+      }
+      if (!c.edge_contact[e]) return;
+      for (int k = 0; k < 3; ++k) {
+        const Index f = c.tri_edge[3 * prim + k];
+        if (f <= e || c.edge_first_tri[f] != prim) continue;
+        const Index fa = c.edge_a[f], fb = c.edge_b[f];
+        if (c.edges_adjacent(a, b, fa, fb)) continue;
+        if (!c.cloths_collide(c.particle_cloth[a], c.particle_cloth[fa])) continue;
+        const Vec3* const x0[4] = {&in.x[a], &in.x[b], &in.x[fa], &in.x[fb]};
+        const Vec3* const x1[4] = {&out.x[a], &out.x[b], &out.x[fa], &out.x[fb]};
+        const Index p[4] = {a, b, fa, fb};
+        on_pair(e, q, p, x0, x1, false, f);
+      }
+    });
+  });
+}
+
 }  // namespace clothsim

@@ -24,69 +24,38 @@ inline bool edge_edge_crossing(const Vec3 x0[4], const Vec3 x1[4], Real thick, E
   return std::isfinite(d) && d < thick;
 }
 
-// Every cloth edge against the edges of the triangles its swept box meets: self-colliding cloths' edges
-// against each other (each pair once, from the lower edge id), and every cloth edge against collider edges.
-// on_edge(p, fixed, x0, x1, px, n, d, mu) for each pair that met within the thickness: p the four particles
-// (collider vertices for p[2], p[3] when `fixed`), mu the mean friction of the two sides. A cloth edge that came
-// from inside a collider is left to the proximity pass, which sends it out. Only pairs whose cloth particles
-// pass keep(particles, count) are tested.
+// Every edge pair of for_each_edge_pair that met within the thickness: on_edge(p, fixed, x0, x1, px, n, d, mu), p
+// the four particles (collider vertices for p[2], p[3] when `fixed`), mu the mean friction of the two sides. A
+// cloth edge that came from inside a collider is left to the proximity pass, which sends it out. Only pairs whose
+// boxes come within the thickness and whose cloth particles pass keep(particles, count) are tested.
 template <class Keep, class OnEdge>
 void for_each_edge_crossing(const Model& m, const State& in, const State& out, const CollisionScratch& s,
                             BroadMode mode, Keep&& keep, OnEdge&& on_edge) {
   const CollisionModel& c = m.collision;
-  parallel_over(Index(c.edge_a.size()), contact_grain, [&](Index e) {
-    const Index a = c.edge_a[e], b = c.edge_b[e];
-    Aabb q = swept_box(in.x[a], out.x[a]);
-    grow(q, in.x[b]);
-    grow(q, out.x[b]);
+  auto edge_pair = [&](Index, const Aabb& q, const Index* p, const Vec3* const* px0, const Vec3* const* px1,
+                       bool fixed, Index f) {
+    const Vec3 x0[4] = {*px0[0], *px0[1], *px0[2], *px0[3]}, x1[4] = {*px1[0], *px1[1], *px1[2], *px1[3]};
     Aabb qi = q;
     qi.lo.array() -= c.max_thickness;
     qi.hi.array() += c.max_thickness;
-    const Index cloth = c.particle_cloth[a];
-    for_each_candidate(m, s, mode, q, [&](Index slot) {
-      const Index prim = c.prim[slot];
-      const bool fixed = prim >= m.tri_count;
-      if (!fixed && !c.edge_contact[e]) return;
-      for (int k = 0; k < 3; ++k) {
-        Index p[4] = {a, b, 0, 0};
-        Vec3 x0[4] = {in.x[a], in.x[b]}, x1[4] = {out.x[a], out.x[b]};
-        Real mu;
-        if (fixed) {
-          const Index tri = prim - m.tri_count, g = c.mesh_tri_edge[3 * tri + k];
-          if (c.mesh_edge_first_tri[g] != tri) continue;
-          p[2] = c.mesh_edge_a[g];
-          p[3] = c.mesh_edge_b[g];
-          x0[2] = s.collider_x0[p[2]], x0[3] = s.collider_x0[p[3]];
-          x1[2] = s.collider_x1[p[2]], x1[3] = s.collider_x1[p[3]];
-          mu = collider_friction(m, a, c.mesh_tri_collider[tri]);
-        } else {
-          const Index f = c.tri_edge[3 * prim + k];
-          if (f <= e || c.edge_first_tri[f] != prim) continue;
-          p[2] = c.edge_a[f];
-          p[3] = c.edge_b[f];
-          if (c.edges_adjacent(a, b, p[2], p[3])) continue;
-          if (!c.cloths_collide(cloth, c.particle_cloth[p[2]])) continue;
-          x0[2] = in.x[p[2]], x0[3] = in.x[p[3]];
-          x1[2] = out.x[p[2]], x1[3] = out.x[p[3]];
-          mu = cloth_pair_friction(m, a, p[2]);
-        }
-        Aabb other = swept_box(x0[2], x1[2]);
-        grow(other, x0[3]);
-        grow(other, x1[3]);
-        if (!boxes_overlap(qi, other) || !keep(p, fixed ? 2 : 4)) continue;
-        EdgeProximity px;
-        Vec3 n;
-        Real d;
-        if (!edge_edge_crossing(x0, x1, edge_pair_reach(m, p, fixed), px, n, d)) continue;
-        if (d >= edge_pair_thickness(m, p, fixed, px.s, px.t)) continue;
-        if (fixed) {
-          const Vec3 nv = collider_edge_normal(c, s, c.mesh_tri_edge[3 * (prim - m.tri_count) + k]);
-          if (n.dot(nv) < -0.2 * nv.norm()) continue;
-        }
-        on_edge(p, fixed, x0, x1, px, n, d, mu);
-      }
-    });
-  });
+    Aabb other = swept_box(x0[2], x1[2]);
+    grow(other, x0[3]);
+    grow(other, x1[3]);
+    if (!boxes_overlap(qi, other) || !keep(p, fixed ? 2 : 4)) return;
+    EdgeProximity px;
+    Vec3 n;
+    Real d;
+    if (!edge_edge_crossing(x0, x1, edge_pair_reach(m, p, fixed), px, n, d)) return;
+    if (d >= edge_pair_thickness(m, p, fixed, px.s, px.t)) return;
+    if (fixed) {
+      const Vec3 nv = collider_edge_normal(c, s, f);
+      if (n.dot(nv) < -0.2 * nv.norm()) return;
+    }
+    const Real mu = fixed ? collider_friction(m, p[0], c.mesh_tri_collider[c.mesh_edge_first_tri[f]])
+                          : cloth_pair_friction(m, p[0], p[2]);
+    on_edge(p, fixed, x0, x1, px, n, d, mu);
+  };
+  for_each_edge_pair(m, in, out, s, mode, edge_pair);
 }
 
 // Every crossing of the step: each cloth vertex against the triangles its swept box meets (on_vertex(i, prim,

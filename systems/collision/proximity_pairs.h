@@ -126,52 +126,20 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
     if (d >= h || d <= -(h + motion)) return;
     on_collider_vertex(t, v, px, Vec3(side * px.n), d);
   });
-  const bool meshes = !c.mesh_edge_a.empty();
-  if (!c.cloth_contact && !meshes) return;
-  parallel_over(Index(c.edge_a.size()), contact_grain, [&](Index e) {
-    if (!meshes && !c.edge_contact[e]) return;
-    const Index a = c.edge_a[e], b = c.edge_b[e];
-    Aabb q = swept_box(in.x[a], out.x[a]);
-    grow(q, in.x[b]);
-    grow(q, out.x[b]);
-    for_each_candidate(m, s, mode, q, [&](Index slot) {
-      const Index prim = c.prim[slot];
-      if (prim >= m.tri_count) {
-        const Index tri = prim - m.tri_count;
-        for (int k = 0; k < 3; ++k) {
-          const Index g = c.mesh_tri_edge[3 * tri + k];
-          if (c.mesh_edge_first_tri[g] != tri) continue;
-          const Index ga = c.mesh_edge_a[g], gb = c.mesh_edge_b[g];
-          const Vec3* const x0[4] = {&in.x[a], &in.x[b], &s.collider_x0[ga], &s.collider_x0[gb]};
-          const Vec3* const x1[4] = {&out.x[a], &out.x[b], &s.collider_x1[ga], &s.collider_x1[gb]};
-          const Index p[4] = {a, b, ga, gb};
-          EdgeProximity px;
-          Real d;
-          if (!edge_pair_proximity(x0, x1, edge_pair_reach(m, p, true), px, d)) continue;
-          if (px.d >= edge_pair_thickness(m, p, true, px.s, px.t)) continue;
-          collider_edge_side(collider_edge_normal(c, s, g), px, d);
-          on_collider_edge(e, g, px, d);
-        }
-        return;
-      }
-      if (!c.edge_contact[e]) return;
-      for (int k = 0; k < 3; ++k) {
-        const Index f = c.tri_edge[3 * prim + k];
-        if (f <= e || c.edge_first_tri[f] != prim) continue;
-        const Index fa = c.edge_a[f], fb = c.edge_b[f];
-        if (c.edges_adjacent(a, b, fa, fb)) continue;
-        if (!c.cloths_collide(c.particle_cloth[a], c.particle_cloth[fa])) continue;
-        const Vec3* const x0[4] = {&in.x[a], &in.x[b], &in.x[fa], &in.x[fb]};
-        const Vec3* const x1[4] = {&out.x[a], &out.x[b], &out.x[fa], &out.x[fb]};
-        const Index p[4] = {a, b, fa, fb};
-        EdgeProximity px;
-        Real d;
-        if (edge_pair_proximity(x0, x1, edge_pair_reach(m, p, false), px, d) &&
-            px.d < edge_pair_thickness(m, p, false, px.s, px.t))
-          on_edge(e, f, px, d);
-      }
-    });
-  });
+  auto edge_pair = [&](Index e, const Aabb&, const Index* p, const Vec3* const* x0, const Vec3* const* x1, bool fixed,
+                       Index f) {
+    EdgeProximity px;
+    Real d;
+    if (!edge_pair_proximity(x0, x1, edge_pair_reach(m, p, fixed), px, d)) return;
+    if (px.d >= edge_pair_thickness(m, p, fixed, px.s, px.t)) return;
+    if (fixed) {
+      collider_edge_side(collider_edge_normal(c, s, f), px, d);
+      on_collider_edge(e, f, px, d);
+    } else {
+      on_edge(e, f, px, d);
+    }
+  };
+  for_each_edge_pair(m, in, out, s, mode, edge_pair);
 }
 
 // The collide stage's proximity pass (Bridson et al. 2002 §7): every pair for_each_proximity finds gets its
