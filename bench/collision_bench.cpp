@@ -7,9 +7,9 @@
 
 #include "core/build_collision.h"
 #include "core/build_model.h"
-#include "systems/bvh.h"
-#include "systems/collide.h"
-#include "systems/spatial_hash.h"
+#include "systems/collision/bvh.h"
+#include "systems/collision/collide.h"
+#include "systems/collision/spatial_hash.h"
 
 namespace {
 

@@ -7,7 +7,7 @@ namespace clothsim {
 
 // A binary AABB tree over the prims, one prim a leaf, built once from the initial centroids (median split on
 // the longest axis) and stored breadth first, so a refit can update one level at a time in parallel, deepest
-// level first (systems/bvh.cpp).
+// level first (systems/collision/bvh.cpp).
 void build_bvh_topology(const std::vector<Vec3>& centroid, CollisionModel& c) {
   struct Range { Index begin, end; };
   std::vector<Index> order(centroid.size());

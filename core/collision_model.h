@@ -152,10 +152,10 @@ struct ZoneFigures {
   std::int64_t unresolved = 0;  // steps that stopped with pairs left (the cap, or a pass that merged nothing)
 };
 
-// Rigid impact zones (Provot 1997; Bridson, Fedkiw & Anderson 2002 §6.3; systems/impact_zones.h). A node is a
-// cloth particle (0 .. particle_count - 1) or a collider mesh vertex (particle_count + its index). Every array
-// holds one entry per node, so no pass can find more zones or members than there is room for: nothing to
-// overflow. Sized only when the scene has a broad phase and zones are on.
+// Rigid impact zones (Provot 1997; Bridson, Fedkiw & Anderson 2002 §6.3; systems/collision/impact_zones.h). A node is
+// a cloth particle (0 .. particle_count - 1) or a collider mesh vertex (particle_count + its index). Every array
+// holds one entry per node, so no pass can find more zones or members than there is room for: nothing to overflow.
+// Sized only when the scene has a broad phase and zones are on.
 struct ZoneScratch {
   std::vector<Index> parent;         // union-find parent; a zone's root is its smallest node (node count)
   std::vector<std::uint8_t> flag;    // zone_member: in a zone this step; zone_touched: in a pair of this pass
@@ -179,7 +179,7 @@ struct CollisionScratch {
   std::int64_t contacts_found = 0;           // contacts of the first pass, summed over steps
   ZoneScratch zones;
   // Cloth particles found inside a closed collider mesh: that collider, or -1 (particle_count); filled by the
-  // first step this workspace takes (systems/push_out.h).
+  // first step this workspace takes (systems/collision/push_out.h).
   std::vector<std::int32_t> deep_collider;
   bool deep_scanned = false;
 };

@@ -59,7 +59,7 @@ struct Model {
   std::vector<Real> attach_offset;      // signed distance along the triangle's unit normal, m (attach count)
   ParamField particle_thickness;        // collision thickness, m (particle_count, stride 0 when uniform)
   // stretch stiffness at each vertex (its <stiffness>, before the shear/bend scales), N/m: the spring that caps
-  // the cloth-cloth repulsion (systems/collision_response.h) (particle_count, stride 0 when uniform)
+  // the cloth-cloth repulsion (systems/collision/response.h) (particle_count, stride 0 when uniform)
   ParamField particle_stiffness;
 
   // --- springs

@@ -9,7 +9,8 @@ void apply_attachments(const Model& m, const State& in, State& out, Real h) {
   const Index n = Index(m.attach_particle.size());
   if (n == 0) return;
   const CollisionModel& c = m.collision;
-  // The end of the step at the time place_colliders (systems/collide.h) gives the colliders: the same vertices.
+  // The end of the step at the time place_colliders (systems/collision/colliders.h) gives the colliders: the same
+  // vertices.
   const Real t = in.time + h;
   parallel_over(n, particle_grain, [&](Index k) {
     const ColliderInfo& ci = c.colliders[m.attach_collider[k]];

@@ -3,7 +3,7 @@
 #include <chrono>
 
 #include "systems/attachments.h"
-#include "systems/collide.h"
+#include "systems/collision/collide.h"
 #include "systems/forces.h"
 #include "systems/integrate_explicit.h"
 #include "systems/integrate_implicit.h"

@@ -1,7 +1,7 @@
 // Continuous detection: the coplanarity cubic and its roots against hand-computed cases.
 #include <doctest/doctest.h>
 
-#include "systems/ccd.h"
+#include "systems/collision/ccd.h"
 
 using namespace clothsim;
 

@@ -1,6 +1,6 @@
 // Several cloths in one scene: which pairs the model tests (core/build_collision.cpp: a cloth with itself only
 // under selfCollision, two cloths under clothCollision), and a sheet dropped onto another, checked against the
-// independent checks of systems/collision_check.
+// independent checks of systems/collision/collision_check.
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
 
@@ -10,9 +10,9 @@
 #include <random>
 
 #include "collision_scene.h"
-#include "systems/collide.h"
-#include "systems/collision_check.h"
-#include "systems/proximity.h"
+#include "systems/collision/collide.h"
+#include "systems/collision/collision_check.h"
+#include "systems/collision/proximity.h"
 
 using namespace clothsim;
 using clothsim::test::load_collision_scene;
@@ -212,7 +212,7 @@ void check_rests_on_lower(const DropResult& r) {
   CHECK(r.intersecting == 0);
   // The collide stage keeps a vertex one thickness from a triangle (Bridson et al. 2002 §6.1): the vertices in
   // contact (the lowest tenth) rest that far above the lower sheet. The rest of the sheet does not lie flat: the
-  // cloth-cloth repulsion (systems/collision_response.h) kicks vertices up, see docs/scene-format.md.
+  // cloth-cloth repulsion (systems/collision/response.h) kicks vertices up, see docs/scene-format.md.
   CHECK(r.contact_gap > 0.7 * drop_thickness);
   CHECK(r.contact_gap < 1.3 * drop_thickness);
   // It did land: its lowest vertex rests on the trampoline, which it pushed below its pinned border (0.5 m).

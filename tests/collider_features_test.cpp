@@ -1,8 +1,8 @@
-// Scenario tests of collider vertices and edges against cloth triangles and edges (systems/collide.cpp): sharp
-// collider features finer than the cloth, pushed into a pinned sheet between its vertices, where no cloth vertex
-// ever comes near a collider triangle. Each checks, at every frame, an independent count of crossings (collider
-// edges through cloth triangles and cloth edges through collider triangles, by segment_crosses_triangle) and the
-// sheet's height over the feature against the thickness.
+// Scenario tests of collider vertices and edges against cloth triangles and edges
+// (systems/collision/proximity_pairs.h, continuous_pairs.h): sharp collider features finer than the cloth, pushed
+// into a pinned sheet between its vertices, where no cloth vertex ever comes near a collider triangle. Each checks,
+// at every frame, an independent count of crossings (collider edges through cloth triangles and cloth edges through
+// collider triangles, by segment_crosses_triangle) and the sheet's height over the feature against the thickness.
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
 
@@ -10,7 +10,7 @@
 #include <functional>
 
 #include "collision_scene.h"
-#include "systems/collision_check.h"
+#include "systems/collision/collision_check.h"
 
 using namespace clothsim;
 using clothsim::test::load_collision_scene;

@@ -10,7 +10,7 @@
 #include "io/collider_reader.h"
 #include "io/scene_xml.h"
 #include "io/collider_reader.h"
-#include "systems/collide.h"
+#include "systems/collision/collide.h"
 
 using namespace clothsim;
 using namespace clothsim::test;

@@ -8,10 +8,10 @@
 #include <cstdio>
 
 #include "collision_scene.h"
-#include "systems/collision_check.h"
-#include "systems/collision_response.h"
+#include "systems/collision/collision_check.h"
+#include "systems/collision/response.h"
 #include "systems/diagnostics.h"
-#include "systems/proximity.h"
+#include "systems/collision/proximity.h"
 
 using namespace clothsim;
 

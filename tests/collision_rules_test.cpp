@@ -7,10 +7,10 @@
 #include <cstring>
 
 #include "collision_scene.h"
+#include "systems/collision/collide.h"
+#include "systems/collision/collision_check.h"
+#include "systems/collision/push_out.h"
 #include "systems/step.h"
-#include "systems/collide.h"
-#include "systems/collision_check.h"
-#include "systems/push_out.h"
 
 using namespace clothsim;
 using clothsim::test::LoadedCollisionScene;

@@ -8,10 +8,10 @@
 #include <random>
 
 #include "collision_scene.h"
+#include "systems/collision/collide.h"
+#include "systems/collision/collision_check.h"
+#include "systems/collision/proximity.h"
 #include "systems/step.h"
-#include "systems/collide.h"
-#include "systems/collision_check.h"
-#include "systems/proximity.h"
 
 using namespace clothsim;
 using clothsim::test::load_collision_scene;

@@ -1,7 +1,7 @@
-// Rigid impact zones (systems/impact_zones.h; Provot 1997, Bridson, Fedkiw & Anderson 2002 §6.3): the union of
-// crossing pairs into zones, the rigid fit of a zone against its closed-form invariants (momenta, distances,
-// the collider's motion), and scenes where the averaged responses of the continuous pass leave crossings that
-// the zones remove.
+// Rigid impact zones (systems/collision/impact_zones.h; Provot 1997, Bridson, Fedkiw & Anderson 2002 §6.3): the union
+// of crossing pairs into zones, the rigid fit of a zone against its closed-form invariants (momenta, distances, the
+// collider's motion), and scenes where the averaged responses of the continuous pass leave crossings that the zones
+// remove.
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
@@ -11,9 +11,9 @@
 #include <random>
 
 #include "collision_scene.h"
-#include "systems/collide.h"
-#include "systems/collision_check.h"
-#include "systems/impact_zones.h"
+#include "systems/collision/collide.h"
+#include "systems/collision/collision_check.h"
+#include "systems/collision/impact_zones.h"
 
 using namespace clothsim;
 using clothsim::test::load_collision_scene;

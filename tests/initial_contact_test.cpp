@@ -7,7 +7,7 @@
 #include "core/build_collision.h"
 #include "core/build_model.h"
 #include "core/grid.h"
-#include "systems/collision_response.h"
+#include "systems/collision/response.h"
 #include "systems/step.h"
 
 using namespace clothsim;

@@ -7,8 +7,8 @@
 #include "core/build_collision.h"
 #include "core/build_model.h"
 #include "core/grid.h"
-#include "systems/collide.h"
-#include "systems/collision_check.h"
+#include "systems/collision/collide.h"
+#include "systems/collision/collision_check.h"
 #include "collision_scene.h"
 #include "io/obj_reader.h"
 

@@ -9,7 +9,7 @@
 #include "core/spring_colours.h"
 #include "core/tethers.h"
 #include "spring_fixtures.h"
-#include "systems/collide.h"
+#include "systems/collision/collide.h"
 #include "systems/diagnostics.h"
 #include "systems/integrate_implicit.h"
 #include "systems/spring_forces.h"

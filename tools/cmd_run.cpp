@@ -17,7 +17,7 @@
 #include "io/stats_json.h"
 #include "sim/load_scene.h"
 #include "sim/simulation.h"
-#include "systems/collision_check.h"
+#include "systems/collision/collision_check.h"
 #include "systems/normals.h"
 #include "tools/cli_args.h"
 #include "tools/commands.h"

@@ -1,4 +1,4 @@
-#include "systems/collision_check.h"
+#include "systems/collision/collision_check.h"
 
 #include <tbb/parallel_reduce.h>
 
@@ -6,7 +6,7 @@
 #include <numeric>
 
 #include "systems/parallel.h"
-#include "systems/proximity.h"
+#include "systems/collision/proximity.h"
 
 namespace clothsim {
 namespace {

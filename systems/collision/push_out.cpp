@@ -1,10 +1,10 @@
-#include "systems/push_out.h"
+#include "systems/collision/push_out.h"
 
 #include <limits>
 
-#include "systems/collision_check.h"
+#include "systems/collision/collision_check.h"
 #include "systems/parallel.h"
-#include "systems/proximity.h"
+#include "systems/collision/proximity.h"
 
 namespace clothsim {
 namespace {

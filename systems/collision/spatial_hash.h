@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "core/model.h"
-#include "systems/proximity.h"
+#include "systems/collision/proximity.h"
 
 namespace clothsim {
 

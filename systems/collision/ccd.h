@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "systems/proximity.h"
+#include "systems/collision/proximity.h"
 
 namespace clothsim {
 

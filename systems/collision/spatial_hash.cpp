@@ -1,4 +1,4 @@
-#include "systems/spatial_hash.h"
+#include "systems/collision/spatial_hash.h"
 
 #include <tbb/parallel_reduce.h>
 #include <tbb/parallel_scan.h>

@@ -1,11 +1,15 @@
 #pragma once
 // Per-contact responses (Bridson, Fedkiw & Anderson 2002 §7) and the fixed-point per-particle accumulators that
-// average several contacts on one vertex with the same bytes at any thread count.
+// average several contacts on one vertex with the same bytes at any thread count. The per-element maths is inline
+// and free of threads; below it, the responses of each contact kind the proximity and continuous passes find, and
+// the clear/apply of the accumulators around a pass (response.cpp).
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 
 #include "core/model.h"
+#include "systems/collision/proximity.h"
 
 namespace clothsim {
 
@@ -152,5 +156,62 @@ inline bool inelastic_separation(const Index* p, const Real* wt, int count, cons
   }
   return true;
 }
+
+// Friction of a contact: the geometric mean of the two sides' Coulomb coefficients (Box2D's rule), so a side
+// with friction 0 makes the contact frictionless and two equal sides keep their value (docs/scene-format.md,
+// "Friction"). Restitution is the cloth's.
+inline Real combine_friction(Real a, Real b) { return std::sqrt(a * b); }
+inline Real collider_friction(const Model& m, Index i, Index collider) {
+  return combine_friction(m.cloths[m.collision.particle_cloth[i]].friction, m.collision.colliders[collider].friction);
+}
+// Cloth particles a and b on the two sides of a cloth-cloth contact.
+inline Real cloth_pair_friction(const Model& m, Index a, Index b) {
+  const CollisionModel& c = m.collision;
+  return combine_friction(m.cloths[c.particle_cloth[a]].friction, m.cloths[c.particle_cloth[b]].friction);
+}
+inline Real contact_friction(const Model& m, Index i, Index prim) {
+  const CollisionModel& c = m.collision;
+  if (prim >= m.tri_count) return collider_friction(m, i, c.mesh_tri_collider[prim - m.tri_count]);
+  return cloth_pair_friction(m, i, m.tri_index[3 * prim]);
+}
+
+struct PrimCorners;  // systems/collision/broad_phase.h
+
+// Zeroes the accumulators before a pass; apply_accumulated then adds each particle's mean change to out and
+// returns the number of contacts accumulated (an exact integer sum: the same at any thread count).
+void clear_accumulators(const Model& model, CollisionScratch& s);
+std::int64_t apply_accumulated(const Model& model, State& out, CollisionScratch& s);
+
+// One vertex-triangle contact, normal n towards the vertex's side, end-of-step distance d: the collider response
+// for a collider triangle; for a cloth one, the spring-capped cloth impulse in the proximity pass and, in the
+// continuous pass (`crossed`), the inelastic stop with a position-only push back to the thickness.
+void respond_vertex_triangle(const Model& model, const State& out, CollisionScratch& s, Index i, Index prim,
+                             const PrimCorners& t, const Real* w, const Vec3& n, Real d, Real h, bool crossed);
+
+// A cloth point (weights w over the particles p: a triangle's barycentrics or an edge's) touching an immovable
+// collider point that moves from c0 to c1 over the step; n points from the collider to the cloth's side, d is
+// the cloth point's distance along it (Bridson et al. 2002 §7.1 with the collider's inverse mass zero).
+void respond_collider_point(const Model& model, const State& out, CollisionScratch& s, const Index* p,
+                            const Real* w, int count, const Vec3& c0, const Vec3& c1, const Vec3& n, Real d,
+                            Real thick, Real mu, Real h);
+
+// The proximity pass's responses: cloth edge e against cloth edge f (the spring-capped cloth impulse), cloth
+// triangle t against collider vertex v (n from the vertex to the triangle's side), cloth edge e against collider
+// edge g (px.n towards the cloth edge).
+void respond_cloth_edges(const Model& model, const State& out, CollisionScratch& s, Index e, Index f,
+                         const EdgeProximity& px, Real d, Real h);
+void respond_collider_vertex(const Model& model, const State& out, CollisionScratch& s, Index t, Index v,
+                             const TriangleProximity& px, const Vec3& n, Real d, Real h);
+void respond_collider_edge(const Model& model, const State& out, CollisionScratch& s, Index e, Index g,
+                           const EdgeProximity& px, Real d, Real h);
+
+// The continuous pass's responses (inelastic_separation): cloth triangle t that crossed collider vertex v
+// (barycentrics w), and an edge pair that crossed (p the four particles, collider vertices for p[2], p[3] when
+// `fixed`; x0, x1 their positions at the start and end of the step).
+void respond_collider_vertex_crossing(const Model& model, const State& out, CollisionScratch& s, Index t, Index v,
+                                      const Real* w, const Vec3& n, Real d, Real h);
+void respond_edge_crossing(const Model& model, const State& out, CollisionScratch& s, const Index* p, bool fixed,
+                           const Vec3* x0, const Vec3* x1, const EdgeProximity& px, const Vec3& n, Real d, Real mu,
+                           Real h);
 
 }  // namespace clothsim

@@ -2,7 +2,7 @@
 // The second broad phase: an AABB tree over the same prims, built once from the topology
 // (core/bvh_build.cpp) and refitted every step, level by level from the leaves up.
 #include "core/model.h"
-#include "systems/proximity.h"
+#include "systems/collision/proximity.h"
 
 namespace clothsim {
 

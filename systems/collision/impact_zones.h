@@ -18,6 +18,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "core/model.h"
+#include "systems/collision/broad_phase.h"
 
 namespace clothsim {
 
@@ -146,5 +147,11 @@ void gather_zones(ZoneScratch& z);
 void rigidify_zones(const Model& model, const State& in, State& out, const CollisionScratch& s, Real h);
 // Adds the step's zones and their sizes to the --stats figures.
 void count_zones(ZoneScratch& z);
+
+// The zone driver, after continuous passes that left crossings: each pass finds the pairs the continuous pass
+// would still respond to (for_each_crossing, systems/collision/continuous_pairs.h), merges their nodes into zones
+// and moves the zones that grew, until a pass finds none (impact_zones.cpp).
+void resolve_impact_zones(const Model& model, const State& in, State& out, CollisionScratch& s, BroadMode mode,
+                          Real h);
 
 }  // namespace clothsim

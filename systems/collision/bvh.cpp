@@ -1,4 +1,4 @@
-#include "systems/bvh.h"
+#include "systems/collision/bvh.h"
 
 #include "systems/parallel.h"
 

@@ -1,0 +1,136 @@
+#pragma once
+// The collide stage's broad phase: swept, thickness-inflated boxes of every prim (cloth triangles, then collider
+// mesh triangles), one spatial hash or BVH over them per pass, and the candidate walks the proximity and continuous
+// passes share (Bridson, Fedkiw & Anderson 2002 §6: every pair whose swept boxes meet is tested). The walks are
+// templates so that each pass's per-pair test inlines into the loop over candidates.
+#include "core/model.h"
+#include "systems/collision/bvh.h"
+#include "systems/collision/spatial_hash.h"
+#include "systems/parallel.h"
+
+namespace clothsim {
+
+// Which broad phase a walk queries: the scene's hash or BVH, or every prim (the tests' reference).
+enum class BroadMode { hash, bvh, brute };
+
+// Swept, thickness-inflated prim boxes and the query bounds, then the scene's broad phase.
+void build_broad_phase(const Model& model, const State& in, const State& out, CollisionScratch& s);
+
+// Cloth vertices, triangles or edges a task of the contact passes takes: each costs a broad-phase query.
+inline constexpr Index contact_grain = 256;
+
+inline Aabb swept_box(const Vec3& a0, const Vec3& a1) { return {a0.cwiseMin(a1), a0.cwiseMax(a1)}; }
+inline void grow(Aabb& b, const Vec3& p) { b.lo = b.lo.cwiseMin(p); b.hi = b.hi.cwiseMax(p); }
+
+// Calls visit(slot) for every prim slot whose box overlaps q.
+template <class Visit>
+void for_each_candidate(const Model& m, const CollisionScratch& s, BroadMode mode, const Aabb& q, Visit&& visit) {
+  switch (mode) {
+    case BroadMode::hash: query_spatial_hash(s, q, visit); break;
+    case BroadMode::bvh: query_bvh(m.collision, s, q, visit); break;
+    case BroadMode::brute:
+      for (Index slot = 0; slot < Index(m.collision.prim.size()); ++slot)
+        if (boxes_overlap(q, s.prim_box[slot])) visit(slot);
+      break;
+  }
+}
+
+// Corners of a broad-phase prim at the start and end of the step.
+struct PrimCorners {
+  Index p[3];
+  Vec3 x0[3], x1[3];
+  bool cloth;
+};
+inline PrimCorners corners(const Model& m, const State& in, const State& out, const CollisionScratch& s,
+                           Index prim) {
+  PrimCorners c;
+  c.cloth = prim < m.tri_count;
+  for (int k = 0; k < 3; ++k) {
+    if (c.cloth) {
+      c.p[k] = m.tri_index[3 * prim + k];
+      c.x0[k] = in.x[c.p[k]];
+      c.x1[k] = out.x[c.p[k]];
+    } else {
+      c.p[k] = m.collision.mesh_tri_index[3 * (prim - m.tri_count) + k];
+      c.x0[k] = s.collider_x0[c.p[k]];
+      c.x1[k] = s.collider_x1[c.p[k]];
+    }
+  }
+  return c;
+}
+
+// Every collider-mesh vertex whose swept box may come within the thickness of cloth triangle t's swept box,
+// through the broad phase's collider triangles: a vertex is reported only by its lowest triangle, so each
+// (t, vertex) pair once. on_pair(t, vertex). Nothing for a scene without collider meshes.
+template <class OnPair>
+void for_each_collider_vertex_pair(const Model& m, const State& in, const State& out, const CollisionScratch& s,
+                                   BroadMode mode, OnPair&& on_pair) {
+  const CollisionModel& c = m.collision;
+  if (c.mesh_vertex_first_tri.empty()) return;
+  parallel_over(m.tri_count, contact_grain, [&](Index t) {
+    const Index* p = &m.tri_index[3 * t];
+    if (m.particle_inv_mass[p[0]] == 0 && m.particle_inv_mass[p[1]] == 0 && m.particle_inv_mass[p[2]] == 0) return;
+    Aabb q = swept_box(in.x[p[0]], out.x[p[0]]);
+    for (int k = 1; k < 3; ++k) { grow(q, in.x[p[k]]); grow(q, out.x[p[k]]); }
+    for_each_candidate(m, s, mode, q, [&](Index slot) {
+      const Index prim = c.prim[slot];
+      if (prim < m.tri_count) return;
+      const Index tri = prim - m.tri_count;
+      for (int k = 0; k < 3; ++k) {
+        const Index v = c.mesh_tri_index[3 * tri + k];
+        if (c.mesh_vertex_first_tri[v] == tri) on_pair(t, v);
+      }
+    });
+  });
+}
+
+// Every cloth edge e against the edges of the prims its swept box q meets, the one edge-edge walk of the proximity
+// and continuous passes: self-colliding cloths' edges against each other (each pair once, from the lower edge id;
+// neither adjacent edges nor edges of cloths that do not collide), and every cloth edge against collider-mesh edges
+// (each reported by its lowest triangle). on_pair(e, q, p, x0, x1, fixed, f) with q the cloth edge's swept box,
+// p the four particles (collider vertices for p[2], p[3] when `fixed`), x0 and x1 pointers to their positions at
+// the start and end of the step, and f the other edge (a cloth edge, or a collider edge when fixed).
+template <class OnPair>
+void for_each_edge_pair(const Model& m, const State& in, const State& out, const CollisionScratch& s,
+                        BroadMode mode, OnPair&& on_pair) {
+  const CollisionModel& c = m.collision;
+  const bool meshes = !c.mesh_edge_a.empty();
+  if (!c.cloth_contact && !meshes) return;
+  parallel_over(Index(c.edge_a.size()), contact_grain, [&](Index e) {
+    if (!meshes && !c.edge_contact[e]) return;
+    const Index a = c.edge_a[e], b = c.edge_b[e];
+    Aabb q = swept_box(in.x[a], out.x[a]);
+    grow(q, in.x[b]);
+    grow(q, out.x[b]);
+    for_each_candidate(m, s, mode, q, [&](Index slot) {
+      const Index prim = c.prim[slot];
+      if (prim >= m.tri_count) {
+        const Index tri = prim - m.tri_count;
+        for (int k = 0; k < 3; ++k) {
+          const Index g = c.mesh_tri_edge[3 * tri + k];
+          if (c.mesh_edge_first_tri[g] != tri) continue;
+          const Index ga = c.mesh_edge_a[g], gb = c.mesh_edge_b[g];
+          const Vec3* const x0[4] = {&in.x[a], &in.x[b], &s.collider_x0[ga], &s.collider_x0[gb]};
+          const Vec3* const x1[4] = {&out.x[a], &out.x[b], &s.collider_x1[ga], &s.collider_x1[gb]};
+          const Index p[4] = {a, b, ga, gb};
+          on_pair(e, q, p, x0, x1, true, g);
+        }
+        return;
+      }
+      if (!c.edge_contact[e]) return;
+      for (int k = 0; k < 3; ++k) {
+        const Index f = c.tri_edge[3 * prim + k];
+        if (f <= e || c.edge_first_tri[f] != prim) continue;
+        const Index fa = c.edge_a[f], fb = c.edge_b[f];
+        if (c.edges_adjacent(a, b, fa, fb)) continue;
+        if (!c.cloths_collide(c.particle_cloth[a], c.particle_cloth[fa])) continue;
+        const Vec3* const x0[4] = {&in.x[a], &in.x[b], &in.x[fa], &in.x[fb]};
+        const Vec3* const x1[4] = {&out.x[a], &out.x[b], &out.x[fa], &out.x[fb]};
+        const Index p[4] = {a, b, fa, fb};
+        on_pair(e, q, p, x0, x1, false, f);
+      }
+    });
+  });
+}
+
+}  // namespace clothsim

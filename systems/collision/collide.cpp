@@ -1,0 +1,67 @@
+#include "systems/collision/collide.h"
+
+#include <algorithm>
+#include <chrono>
+#include <mutex>
+
+#include "systems/collision/continuous_pairs.h"
+#include "systems/collision/impact_zones.h"
+#include "systems/collision/proximity_pairs.h"
+#include "systems/collision/push_out.h"
+#include "systems/collision/response.h"
+
+namespace clothsim {
+
+void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h) {
+  const CollisionModel& c = m.collision;
+  if (!c.enabled) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  CollisionScratch& s = ws.collision;
+  place_colliders(m, in.time, h, s);
+  push_out_deep_vertices(m, in, out, s, h);
+  const bool broad = !c.prim.empty();
+  if (broad) build_broad_phase(m, in, out, s);
+  const BroadMode mode = c.broad_phase == BroadPhase::bvh ? BroadMode::bvh : BroadMode::hash;
+
+  // The proximity passes (Bridson et al. 2002 §7): every contact of a pass is averaged per vertex, applied, and
+  // the pass repeats on the corrected positions until it finds nothing.
+  for (int iter = 0; iter < c.iterations; ++iter) {
+    clear_accumulators(m, s);
+    collide_analytic(m, out, s, h);
+    if (broad) respond_proximities(m, in, out, s, mode, h);
+    const std::int64_t found = apply_accumulated(m, out, s);
+    if (iter == 0) s.contacts_found += found;
+    if (found == 0) break;
+  }
+  // The continuous pass repeats too (its responses are averaged per vertex, so one pass may leave part of a
+  // crossing), on boxes rebuilt around the corrected positions, until a pass finds nothing. When the last pass
+  // still found crossings, the impact zones take over: a step that ends clean costs nothing more.
+  bool crossings_left = false;
+  for (int pass = 0; broad && pass < c.iterations; ++pass) {
+    if (pass > 0) build_broad_phase(m, in, out, s);
+    crossings_left = collide_continuous(m, in, out, s, mode, h) > 0;
+    if (!crossings_left) break;
+  }
+  if (crossings_left && c.impact_zones()) resolve_impact_zones(m, in, out, s, mode, h);
+  ws.seconds_collide += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::vector<std::array<Index, 3>> list_proximities(const Model& m, const State& in, const State& out,
+                                                   CollisionScratch& s, BroadMode mode) {
+  std::vector<std::array<Index, 3>> found;
+  std::mutex lock;
+  auto add = [&](Index kind, Index a, Index b) {
+    std::lock_guard g(lock);
+    found.push_back({kind, a, b});
+  };
+  for_each_proximity(
+      m, in, out, s, mode,
+      [&](Index i, Index prim, const PrimCorners&, const TriangleProximity&, Real) { add(0, i, prim); },
+      [&](Index e, Index f, const EdgeProximity&, Real) { add(1, e, f); },
+      [&](Index t, Index v, const TriangleProximity&, const Vec3&, Real) { add(2, t, v); },
+      [&](Index e, Index g, const EdgeProximity&, Real) { add(3, e, g); });
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+}  // namespace clothsim
