@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <string>
 
-#include "bench/sheet_scene.h"
+#include "tests/support/sheet_scene.h"
 #include "core/csr.h"
 #include "io/obj_writer.h"
 #include "systems/normals.h"

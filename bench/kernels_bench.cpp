@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "bench/kernel_traffic.h"
-#include "bench/sheet_scene.h"
+#include "tests/support/sheet_scene.h"
 #include "core/csr.h"
 #include "core/spring_chunks.h"
 #include "io/obj_writer.h"

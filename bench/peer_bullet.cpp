@@ -21,7 +21,7 @@
 #include <cstring>
 #include <string>
 
-#include "bench/sheet_scene.h"
+#include "tests/support/sheet_scene.h"
 #include "systems/spring_forces.h"
 #include "systems/step.h"
 

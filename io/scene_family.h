@@ -1,7 +1,7 @@
 #pragma once
 // A seeded family of small scene files for the stability estimate and the automatic step (docs/stability.md):
 // grid sizes, densities, stiffnesses, spring and air damping, pins, each explicit integrator, with and without a
-// collider. `clothsim study autostep` and tests/stability_family_test.cpp run it.
+// collider. `clothsim study autostep` and tests/scenario/stability_family_test.cpp run it.
 #include <string>
 
 #include "core/model.h"

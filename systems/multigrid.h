@@ -16,7 +16,7 @@
 // Why CG may use it: the cycle B is a fixed linear operator, symmetric (the sweep after the coarse correction is
 // the one before it), and positive definite because its error propagation E = S (I - alpha P C P^T A) S contracts
 // in the energy norm for 0 < omega < 1 and 0 < alpha < 2 (the proof: docs/stability.md, "Why the multigrid cycle
-// is a valid CG preconditioner"). tests/multigrid_test.cpp checks the spectrum densely.
+// is a valid CG preconditioner"). tests/unit/multigrid_test.cpp checks the spectrum densely.
 #include <span>
 
 #include "systems/implicit_system.h"

@@ -30,7 +30,7 @@ namespace {
 // Springs [begin, end) of one block (at most spring_lane_block) into structure-of-arrays lanes. The endpoints
 // are gathered into lanes first, so the arithmetic (sqrt and division bound: docs/performance.md) runs as one
 // loop the compiler vectorises. It is spring_force_lane, the expression spring_force uses, so the layouts stay
-// bitwise equal (tests/spring_layouts_test.cpp). Each of ke and kd is read in its field's form (chosen once per
+// bitwise equal (tests/unit/spring_layouts_test.cpp). Each of ke and kd is read in its field's form (chosen once per
 // block, not per spring): a uniform value stays a scalar, broadcast into the vector loop; a palette is read
 // through its one-byte codes from a table in L1; only a per-element field streams 8 bytes a spring.
 constexpr Index spring_lane_block = spring_block_size;

@@ -1,5 +1,5 @@
 #pragma once
-// What the fuzz targets do with one input, shared with tests/fuzz_corpus_test.cpp, which replays the seed
+// What the fuzz targets do with one input, shared with tests/unit/fuzz_corpus_test.cpp, which replays the seed
 // corpus and every input a fuzzer ever crashed on in the ordinary (and the sanitizer) test build. A reader
 // may refuse an input only with clothsim::Error (the functions return false); any other exception, crash or sanitizer report is a bug.
 #include <unistd.h>

@@ -1,0 +1,103 @@
+// The implicit step's health record (Workspace::SolveRecord) and the sparse Cholesky preconditioner.
+#include <doctest/doctest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "core/memory_bytes.h"
+#include "tests/support/scene_fixtures.h"
+#include "tests/support/spring_fixtures.h"
+#include "systems/integrate_implicit.h"
+#include "systems/step.h"
+
+using namespace clothsim;
+using namespace clothsim::test;
+
+namespace {
+
+// One implicit step; its health is the record it logs, and the StepResult it returns must agree with it.
+Workspace::SolveRecord implicit_step(const Model& m, const State& in, State& out, Workspace& ws, Real h) {
+  ws.solve_log.clear();
+  if (ws.solve_log.capacity() == 0) ws.solve_log.reserve(1);
+  const StepResult result = integrate_implicit(m, in, out, ws, h);
+  REQUIRE(ws.solve_log.size() == 1);
+  CHECK(result.failed == ws.solve_log.back().failed());
+  return ws.solve_log.back();
+}
+
+BuiltScene stiff_sheet(Preconditioner pc) {
+  GridSpec g;
+  g.nx = g.ny = 8;
+  g.stiffness = 1e5;
+  g.damping = 0.1;
+  g.pins = {0, 7};
+  g.integrator = Integrator::implicit;
+  BuiltScene s = grid_sheet(g);
+  s.model.preconditioner = pc;
+  s.model.cg_tolerance = 1e-6;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("a CG solve stopped at its cap is reported as not converged") {
+  BuiltScene s = stiff_sheet(Preconditioner::jacobi);
+  s.model.cg_max_iterations = 3;
+  Workspace ws = make_workspace(s.model);
+  State out = s.state;
+  const Workspace::SolveRecord r = implicit_step(s.model, s.state, out, ws, 1.0 / 120);
+  CHECK(r.cg_iterations == 3);
+  CHECK(r.cg_residual > s.model.cg_tolerance);
+  CHECK_FALSE(r.converged);
+  CHECK(r.failed());
+  s.model.cg_max_iterations = 1000;
+  const Workspace::SolveRecord ok = implicit_step(s.model, s.state, out, ws, 1.0 / 120);
+  CHECK(ok.converged);
+  CHECK_FALSE(ok.failed());
+}
+
+TEST_CASE("the Cholesky preconditioner solves a step in one CG iteration and keeps its factor while it helps") {
+  BuiltScene s = stiff_sheet(Preconditioner::cholesky);
+  Workspace ws = make_workspace(s.model);
+  REQUIRE(ws.cholesky);
+  const Real h = 1.0 / 120;
+  State out = s.state;
+  // A fresh factor of the step's own matrix: CG's first iterate is the solution up to round-off.
+  Workspace::SolveRecord r = implicit_step(s.model, s.state, out, ws, h);
+  CHECK(r.factorizations == 1);
+  CHECK(r.cg_iterations == 1);
+  CHECK(r.cg_residual < 1e-10);
+  // The next steps reuse it: a few iterations each, no factorisation until a solve needs more than
+  // cholesky_refactor_iterations.
+  int factorizations = 0, iterations = 0;
+  for (int k = 0; k < 10; ++k) {
+    std::swap(s.state, out);
+    r = implicit_step(s.model, s.state, out, ws, h);
+    factorizations += r.factorizations;
+    iterations += r.cg_iterations;
+    CHECK(r.converged);
+  }
+  CHECK(factorizations < 10);
+  CHECK(iterations >= 10);
+  MESSAGE(factorizations << " factorisations and " << iterations << " CG iterations in 10 steps");
+  // A new step size refactors.
+  r = implicit_step(s.model, out, s.state, ws, h / 2);
+  CHECK(r.factorizations == 1);
+  CHECK(r.cg_iterations == 1);
+  CHECK(workspace_bytes(ws) > 0);
+}
+
+TEST_CASE("the Cholesky-preconditioned implicit run is byte-identical at 1 and 2 threads") {
+  State runs[2];
+  for (int t = 1; t <= 2; ++t) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
+    BuiltScene s = stiff_sheet(Preconditioner::cholesky);
+    Workspace ws = make_workspace(s.model);
+    run_steps(s.model, s.state, ws, 1.0 / 60, 12);
+    runs[t - 1] = s.state;
+  }
+  REQUIRE(runs[0].x.size() == runs[1].x.size());
+  CHECK(std::memcmp(runs[0].x.data(), runs[1].x.data(), runs[0].x.size() * sizeof(Vec3)) == 0);
+  CHECK(std::memcmp(runs[0].v.data(), runs[1].v.data(), runs[0].v.size() * sizeof(Vec3)) == 0);
+}

@@ -1,0 +1,116 @@
+// What a run holds for its whole length, counted from the arrays' sizes against a hand count of a grid sheet's
+// elements (docs/performance.md, "Memory and loading": at most 400 bytes a particle on the 1024^2 sheet). The RSS
+// a run reports (--stats peak_rss_bytes) is this plus the program image and the build's transient peak; this
+// test guards the part that scales with the mesh, without timing or measuring the process.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "core/csr.h"
+#include "core/memory_bytes.h"
+#include "core/multigrid_levels.h"
+#include "core/spring_chunks.h"
+#include "tests/support/scene_fixtures.h"
+
+using namespace clothsim;
+
+namespace {
+
+struct GridCounts {
+  double particles, springs, triangles;
+};
+
+// An n x n grid: Provot's structural, shear and flex springs; two triangles a cell.
+GridCounts grid_counts(double n) {
+  return {n * n, 2 * n * (n - 1) + 2 * (n - 1) * (n - 1) + 2 * n * (n - 2), 2 * (n - 1) * (n - 1)};
+}
+
+// Hand count of a symplectic grid model with uniform parameters, blocked layout, one chunk and one pass:
+// inverse mass (8 a particle), spring a, b (4 each) and rest (8), triangle corners (3 x 4) and the triangle CSR
+// (offset 4 a particle + 1, 3 x 4 a triangle), UVs (16 a particle, their indices equal the vertex indices and are
+// not stored), five uniform fields of one scalar each (ke, kd, max strain, thickness, stretch stiffness), the chunk
+// schedule.
+double model_hand_count(const GridCounts& g, double chunk_entries) {
+  return 8 * g.particles + 16 * g.springs + 12 * g.triangles + 4 * (g.particles + 1) + 12 * g.triangles +
+         16 * g.particles + 5 * 8 + 4 * chunk_entries;
+}
+
+// The blocked schedule of a 16^2 grid (1378 springs, below the smallest chunk size): one chunk in one pass.
+constexpr double one_chunk_schedule = 2 + 2 + 1 + 2 * (3 + 2) + 22;
+
+}  // namespace
+
+TEST_CASE("a grid model holds its hand-counted bytes: no spring CSR, no per-spring parameters, no UV indices") {
+  const BuiltScene b = test::build(test::grid_scene(16, 16, 1.0, Integrator::symplectic));
+  const Model& m = b.model;
+  const GridCounts g = grid_counts(16);
+  REQUIRE(m.spring_count == Index(g.springs));
+  REQUIRE(m.tri_count == Index(g.triangles));
+  REQUIRE(m.spring_layout == SpringLayout::blocked);
+  CHECK(m.particle_spring_offset.empty());
+  CHECK(m.spring_ke.uniform());
+  CHECK(m.cloths[0].uv_per_vertex);
+  CHECK(m.cloths[0].tri_uv.capacity() == 0);
+  // one_chunk_schedule: chunk offsets {0, S}, pass offsets
+  // {0, 1}, one pass entry; the chunk opens and closes every particle: open and close offsets {0, 1, 1} (the
+  // chunk, then the slot of particles in no chunk) and one [begin, end) range each; and one closing count per
+  // block of 64 springs, ceil(1378 / 64) = 22.
+  REQUIRE(m.spring_chunk_offset.size() == 2);
+  CHECK(model_bytes(m) == std::size_t(model_hand_count(g, one_chunk_schedule)));
+  CHECK(state_bytes(b.state) == std::size_t(48 * g.particles));
+  CHECK(workspace_bytes(make_workspace(m)) == std::size_t(48 * g.particles));  // f and normals
+}
+
+TEST_CASE("a parameter varying by spring kind costs a palette and a byte a spring, kernels that read the CSR get it") {
+  SceneDesc s = test::grid_scene(16, 16, 1.0, Integrator::implicit);
+  s.cloths[0].bend_scale = 0.5;  // flex springs differ from the others: two stiffness values
+  const BuiltScene b = test::build(s);
+  const GridCounts g = grid_counts(16);
+  CHECK(b.model.spring_ke.paletted());
+  CHECK(b.model.spring_ke.size() == 2);
+  CHECK(b.model.particle_spring_offset.size() == std::size_t(g.particles + 1));  // implicit reads it
+  // ke: two palette entries (16 bytes, against the hand count's one scalar) and one code byte per spring.
+  CHECK(model_bytes(b.model) == std::size_t(model_hand_count(g, one_chunk_schedule) + 16 - 8 + g.springs +
+                                            4 * (g.particles + 1) + 8 * g.springs));
+}
+
+TEST_CASE("the 1024^2 sheet's run holds under 400 bytes a particle by the same count") {
+  // What `clothsim run` keeps (tools/cmd_run.cpp): the model, the state, a scratch state, the start positions
+  // for the divergence guard, and the workspace. The formula is the one checked against the built model above;
+  // the rest of the 400 bytes (about 40 MB) is the program, its libraries and the output buffer.
+  const GridCounts g = grid_counts(1024);
+  // 6.3 M springs: the automatic chunk size is the largest (springs / 64 > spring_chunk_max). Per chunk: its
+  // offset, its pass entry and open/close offsets, and at most a few [begin, end) runs each (a grid chunk's span
+  // is one run; 8 is generous); one closing count per block of 64 springs. push_back may double a capacity.
+  const double chunks = std::ceil(g.springs / spring_chunk_max);
+  const double schedule = 2 * (4 * chunks + spring_max_passes + 3 + 2 * 2 * 8 * chunks) +
+                          std::ceil(g.springs / spring_block_size);
+  const double held = model_hand_count(g, schedule) + 48 * g.particles + 48 * g.particles + 24 * g.particles +
+                      48 * g.particles;
+  CHECK(held / g.particles < 360);
+}
+
+TEST_CASE("the multigrid levels of an 8 x 8 grid hold their hand-counted bytes") {
+  // Levels of 16 and 4 aggregates (tests/unit/multigrid_levels_test.cpp: 2 x 2 squares, then 4 x 4), 42 and 6 edges;
+  // 210 of the 306 springs cross between squares, and 18 of the first level's edges between the second's.
+  const BuiltScene b = test::build(test::grid_scene(8, 8, 1.0, Integrator::implicit));
+  const Multigrid mg = build_multigrid_levels(b.model, 4);
+  REQUIRE(mg.levels.size() == 2);
+  // One level of n nodes and e edges over nf finer nodes (all with a parent) and `sources` finer edges: parent,
+  // members and their offsets, edge ends, rows and their offsets, sources and their offsets (4 bytes each), the
+  // first level's ground offsets; G, D, D^-1 (48 bytes each), the edge blocks, and three 3-vectors per node.
+  auto level = [](double nf, double n, double e, double sources, bool first) {
+    return 4 * (nf + (n + 1) + nf + 2 * e + (n + 1) + 4 * e + (e + 1) + sources + (first ? n + 1 : 0)) +
+           3 * 48 * n + 48 * e + 3 * 24 * n;
+  };
+  const double dense = 8 * (12 * 12 + 12);  // the coarsest level's 3n x 3n matrix and right-hand side
+  CHECK(multigrid_bytes(mg) == std::size_t(level(64, 16, 42, 210, true) + level(16, 4, 6, 18, false) + dense));
+  // The workspace adds the cycle's output z (24 bytes a particle) to the implicit scratch.
+  SceneDesc s = test::grid_scene(8, 8, 1.0, Integrator::implicit);
+  s.simulation.preconditioner = Preconditioner::jacobi;
+  const Workspace jacobi = make_workspace(test::build(s).model);
+  s.simulation.preconditioner = Preconditioner::multigrid;
+  const Model with_mg = test::build(s).model;
+  CHECK(workspace_bytes(make_workspace(with_mg)) ==
+        workspace_bytes(jacobi) + 24 * 64 + multigrid_bytes(build_multigrid_levels(with_mg)));
+}

@@ -1,0 +1,304 @@
+#include <doctest/doctest.h>
+
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "core/csr.h"
+#include "core/spring_colours.h"
+#include "core/tethers.h"
+#include "tests/support/spring_fixtures.h"
+#include "systems/collision/collide.h"
+#include "systems/diagnostics.h"
+#include "systems/integrate_implicit.h"
+#include "systems/spring_forces.h"
+#include "systems/strain_limit.h"
+
+using namespace clothsim;
+using namespace clothsim::test;
+
+namespace {
+
+// A soft sheet hanging from its two top corners: without a limit its springs near the pins stretch far.
+GridSpec soft_sheet(Real max_strain, Integrator integrator) {
+  GridSpec g;
+  g.nx = g.ny = 12;
+  g.stiffness = 4;
+  g.damping = 0.02;
+  g.pins = {0, 11};
+  g.max_strain = max_strain;
+  g.integrator = integrator;
+  return g;
+}
+
+// Largest strain seen after any step over `steps` steps of h.
+Real worst_strain(const GridSpec& g, Real h, int steps, bool check_velocity = false) {
+  BuiltScene s = grid_sheet(g);
+  Workspace ws = make_workspace(s.model);
+  State scratch = s.state;
+  Real worst = 0;
+  for (int k = 0; k < steps; ++k) {
+    step(s.model, s.state, scratch, ws, h);
+    if (check_velocity) {
+      // The correction moved positions and velocities together: x' = x + h v' still holds.
+      Real mismatch = 0;
+      for (Index i = 0; i < s.model.particle_count; ++i)
+        mismatch = std::max(mismatch, (scratch.x[i] - s.state.x[i] - h * scratch.v[i]).norm());
+      REQUIRE(mismatch < 1e-12);
+    }
+    std::swap(s.state, scratch);
+    REQUIRE(state_is_finite(s.state));
+    worst = std::max(worst, max_spring_strain(s.model, s.state.x));
+  }
+  return worst;
+}
+
+// A chain of n springs of rest length 1 along x, particle 0 pinned when `pinned`, unit masses, stretched to
+// `length` a spring; one cloth, so build_tethers ties it to its pin (its path over the springs is the straight
+// line). Built by hand: build_model lumps mass from triangles, and a chain has none.
+BuiltScene chain(int n, Real length, Real max_strain, bool pinned) {
+  BuiltScene b;
+  Model& m = b.model;
+  m.particle_count = n + 1;
+  m.particle_inv_mass.assign(n + 1, 1.0);
+  if (pinned) {
+    m.particle_inv_mass[0] = 0;
+    m.pinned = {0};
+  }
+  m.spring_count = n;
+  std::vector<Vec3> x;
+  for (Index i = 0; i <= n; ++i) x.push_back(Vec3(length * i, 0, 0));
+  for (Index s = 0; s < n; ++s) {
+    m.spring_a.push_back(s);
+    m.spring_b.push_back(s + 1);
+    m.spring_rest.push_back(1.0);
+  }
+  m.spring_max_strain = ParamField(max_strain);
+  m.strain_limited = true;
+  ClothInfo cloth;
+  cloth.particle_end = n + 1;
+  cloth.spring_end = n;
+  m.cloths.push_back(cloth);
+  build_spring_colours(m);
+  const std::vector<char> straight_rest = {0};
+  build_tethers(m, std::vector<Vec3>(x.begin(), x.end()), straight_rest);
+  b.state = make_state(m, x);
+  return b;
+}
+
+// The limit this one replaced (docs/stability.md): Jacobi sweeps, each particle moving by the average of its
+// over-stretched springs' proposals, with the same stopping rule and cap. Kept here as the yardstick.
+int jacobi_strain_limit(const Model& m, State& out, Real h) {
+  std::vector<Index> offset, index;
+  build_particle_springs(m, offset, index);
+  std::vector<Vec3> corr(m.spring_count);
+  int it = 0;
+  for (; it < strain_limit_max_iterations; ++it) {
+    Real worst = -1;
+    for (Index s = 0; s < m.spring_count; ++s) {
+      const Index a = m.spring_a[s], b = m.spring_b[s];
+      const Vec3 d = out.x[b] - out.x[a];
+      const Real len = d.norm(), rest = m.spring_rest[s], limit = m.spring_max_strain[s];
+      const Real excess = (len - rest) / rest - limit, w = m.particle_inv_mass[a] + m.particle_inv_mass[b];
+      worst = std::max(worst, excess);
+      corr[s] = excess > 0 && w > 0 ? Vec3((len - (1 + limit) * rest) / (w * len) * d) : Vec3::Zero();
+    }
+    if (worst <= 0.5 * strain_limit_tolerance) break;
+    for (Index i = 0; i < m.particle_count; ++i) {
+      Vec3 sum = Vec3::Zero();
+      int active = 0;
+      for (Index k = offset[i]; k < offset[i + 1]; ++k) {
+        const Index e = index[k];
+        const Vec3& c = corr[e >= 0 ? e : ~e];
+        if (c.isZero(0)) continue;
+        sum += e >= 0 ? c : Vec3(-c);
+        ++active;
+      }
+      if (active == 0 || !(m.particle_inv_mass[i] > 0)) continue;
+      const Vec3 dx = (m.particle_inv_mass[i] / active) * sum;
+      out.x[i] += dx;
+      out.v[i] += dx / h;
+    }
+  }
+  return it;
+}
+
+// The peer sheet of docs/performance.md at 64 x 64: 1 m, 1 kg, 10000 N/m springs, held by the two corners of
+// one edge and dropped from flat, implicit at 1/24 s with CG tolerance 1e-2: the first step is a free fall
+// (springs at rest have no stiffness across themselves), so the limit must build the drape around the pins.
+BuiltScene dropped_sheet(int n) {
+  SceneDesc scene = grid_scene(n, n, 1.0, Integrator::implicit, 1.0 / 24);
+  scene.simulation.gravity = Vec3(0, -9.81, 0);
+  scene.simulation.cg_tolerance = 1e-2;
+  ClothDesc& c = scene.cloths[0];
+  c.stiffness = 10000;
+  c.bend_scale = 0.1;
+  c.damping = 0.1;
+  c.density = 1;
+  c.max_strain = 0.095;
+  c.pins = {0, Index(n - 1)};
+  return build(scene);
+}
+
+struct LimitComparison {
+  int sweeps = 0, most = 0;                          // this limit: total and largest in one step
+  int jacobi_sweeps = 0, jacobi_most = 0, jacobi_capped = 0;
+  Real jacobi_worst = 0;                             // largest strain the Jacobi sweeps left
+};
+
+// Runs `steps` implicit steps of h (the model's step when 0); each step's integrated state goes to both limits:
+// the Jacobi yardstick on a copy, this limit on the state the run continues from. Checks after every step that
+// every spring is within tau + strain_limit_tolerance and that velocities moved with positions. Counts are
+// deterministic, so the tests assert them, never times.
+LimitComparison compare_with_jacobi(BuiltScene s, int steps, Real tau, Real h = 0) {
+  const Model& m = s.model;
+  if (h == 0) h = m.dt;
+  Workspace ws = make_workspace(m);
+  State out = s.state;
+  LimitComparison r;
+  for (int k = 0; k < steps; ++k) {
+    integrate_implicit(m, s.state, out, ws, h);
+    State jacobi = out;
+    const int j = jacobi_strain_limit(m, jacobi, h);
+    r.jacobi_sweeps += j;
+    r.jacobi_most = std::max(r.jacobi_most, j);
+    r.jacobi_capped += j == strain_limit_max_iterations;
+    r.jacobi_worst = std::max(r.jacobi_worst, max_spring_strain(m, jacobi.x));
+    const State before = out;
+    const int it = apply_strain_limit(m, out, ws, h);
+    r.sweeps += it;
+    r.most = std::max(r.most, it);
+    CHECK(it < strain_limit_max_iterations);
+    CHECK(max_spring_strain(m, out.x) <= tau + strain_limit_tolerance);
+    Real mismatch = 0;  // x' - x = h (v' - v) for the correction
+    for (Index i = 0; i < m.particle_count; ++i)
+      mismatch = std::max(mismatch, ((out.x[i] - before.x[i]) - h * (out.v[i] - before.v[i])).norm());
+    CHECK(mismatch < 1e-12);
+    REQUIRE(state_is_finite(out));
+    std::swap(s.state, out);
+  }
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("strain limiting keeps every spring within maxStrain + the documented tolerance") {
+  const Real h = 1.0 / 240;
+  const int steps = 480;  // two seconds
+  const Real free_strain = worst_strain(soft_sheet(0, Integrator::implicit), h, steps);
+  MESSAGE("largest strain without a limit " << free_strain);
+  CHECK(free_strain > 0.3);
+  for (Integrator integ : {Integrator::implicit, Integrator::symplectic}) {
+    const Real limited = worst_strain(soft_sheet(0.1, integ), h, steps, true);
+    MESSAGE("integrator " << int(integ) << ": largest strain with maxStrain 0.1: " << limited);
+    CHECK(limited <= 0.1 + strain_limit_tolerance);
+    CHECK(limited > 0.09);  // the limit is active, not a sheet that never stretched
+  }
+}
+
+TEST_CASE("strain limit on one spring: a pinned end stays, the free end moves back to the limit") {
+  BuiltScene s = two_particle_spring(0, 1, 10, 0, 1, 1.5, Integrator::symplectic);
+  s.model.strain_limited = true;
+  s.model.spring_max_strain = ParamField(0.2);
+  build_spring_colours(s.model);  // no cloth, so no tether: the sweep does it
+  Workspace ws = make_workspace(s.model);
+  const int it = apply_strain_limit(s.model, s.state, ws, 0.1);
+  CHECK(it == 1);  // one spring: the first sweep projects exactly (no over-relaxation)
+  CHECK(s.state.x[0] == Vec3(0, 0, 0));
+  CHECK(s.state.x[1].x() == doctest::Approx(1.2));
+  CHECK(s.state.v[1].x() == doctest::Approx(-3.0));  // moved by -0.3 m over h = 0.1 s
+  CHECK(max_spring_strain(s.model, s.state.x) == doctest::Approx(0.2));
+}
+
+TEST_CASE("a chain pinned at one end and stretched: the tethers alone give the projection, x_i = i (1 + tau) rest") {
+  // Every spring 1.5 long for maxStrain 0.2: the nearest configuration (equal masses) within the limit puts
+  // particle i at 1.2 i, each moving back by 0.3 i (spring i's KKT multiplier is the sum of the moves beyond it,
+  // 0.3 (i + ... + n) > 0, so every spring ends exactly at its limit). Each tether is 1.2 i long: one projection
+  // each lands the particle there.
+  const int n = 6;
+  const Real h = 0.1;
+  BuiltScene s = chain(n, 1.5, 0.2, true);
+  REQUIRE(s.model.tether_particle.size() == std::size_t(n));
+  CHECK(s.model.tether_length[n - 1] == doctest::Approx(1.2 * n));
+  CHECK(s.model.spring_colour_offset.size() == 3);  // a chain takes two colours
+  Workspace ws = make_workspace(s.model);
+  const int it = apply_strain_limit(s.model, s.state, ws, h);
+  CHECK(it == 0);  // no sweep: the tethers left every spring at its limit
+  for (Index i = 0; i <= n; ++i) {
+    CHECK(s.state.x[i].x() == doctest::Approx(1.2 * i));
+    CHECK(s.state.v[i].x() == doctest::Approx(-0.3 * i / h));
+  }
+  CHECK(max_spring_strain(s.model, s.state.x) == doctest::Approx(0.2));
+}
+
+TEST_CASE("a free spring is projected in one sweep, each end half way, a free chain keeps its momentum") {
+  // Two equal masses 1.5 apart, limit 1.2: each end moves 0.15 towards the other (Provot's split by inverse mass).
+  BuiltScene one = chain(1, 1.5, 0.2, false);
+  CHECK(one.model.tether_particle.empty());  // no pin, no tether
+  Workspace ws1 = make_workspace(one.model);
+  CHECK(apply_strain_limit(one.model, one.state, ws1, 0.1) == 1);
+  CHECK(one.state.x[0].x() == doctest::Approx(0.15));
+  CHECK(one.state.x[1].x() == doctest::Approx(1.35));
+
+  // Eight springs, each 1.5 for a limit of 1.2: equal and opposite moves at every projection, so the centre of
+  // mass and the momentum (velocities start at zero) stay where they were, to round-off.
+  const int n = 8;
+  BuiltScene s = chain(n, 1.5, 0.2, false);
+  Workspace ws = make_workspace(s.model);
+  const int it = apply_strain_limit(s.model, s.state, ws, 0.1);
+  MESSAGE("free chain of " << n << " springs: " << it << " sweeps");
+  CHECK(it > 1);
+  CHECK(it < 50);
+  Vec3 centre = Vec3::Zero(), momentum = Vec3::Zero();
+  for (Index i = 0; i <= n; ++i) {
+    centre += s.state.x[i] / (n + 1);
+    momentum += s.state.v[i];
+  }
+  CHECK(centre.x() == doctest::Approx(1.5 * n / 2).epsilon(1e-12));
+  CHECK(momentum.norm() < 1e-9);
+  CHECK(max_spring_strain(s.model, s.state.x) <= 0.2 + strain_limit_tolerance);
+}
+
+TEST_CASE("a 64 x 64 sheet dropped from flat at 1/24 s: every step within the limit, in a tenth of Jacobi's sweeps") {
+  // The drop is over by step 6 (later steps need no sweep); the first eight steps hold all the work.
+  const LimitComparison r = compare_with_jacobi(dropped_sheet(64), 8, 0.095);
+  MESSAGE("8 steps: " << r.sweeps << " sweeps (most in one step " << r.most << "); Jacobi on the same states "
+                      << r.jacobi_sweeps << " (most " << r.jacobi_most << ")");
+  CHECK(r.sweeps <= 40);
+  CHECK(10 * r.sweeps < r.jacobi_sweeps);
+}
+
+TEST_CASE("a soft 32 x 32 sheet hanging by two corners: Jacobi hits its cap, this limit converges in an eighth") {
+  // 4 N/m springs would stretch 440% (docs/stability.md): the limit holds the whole sheet up at every step, a
+  // sheet-wide correction the Jacobi sweeps cannot carry within their cap.
+  GridSpec g = soft_sheet(0.1, Integrator::implicit);
+  g.nx = g.ny = 32;
+  g.pins = {0, 31};
+  const LimitComparison r = compare_with_jacobi(grid_sheet(g), 48, 0.1, 1.0 / 240);
+  MESSAGE("48 steps: " << r.sweeps << " sweeps (most in one step " << r.most << "); Jacobi on the same states "
+                       << r.jacobi_sweeps << ", capped in " << r.jacobi_capped << " steps, largest strain "
+                       << r.jacobi_worst);
+  CHECK(r.jacobi_capped >= 10);
+  CHECK(r.jacobi_worst > 0.1 + strain_limit_tolerance);
+  CHECK(r.most < strain_limit_max_iterations / 4);
+  CHECK(8 * r.sweeps < r.jacobi_sweeps);
+}
+
+TEST_CASE("the strain limit gives the same bytes at 1, 2 and 3 threads") {
+  // A 64 x 64 sheet's colours hold about 1,800 springs each and its 4,094 tethers span two particle blocks, so
+  // both passes split at two and three threads.
+  std::vector<State> results;
+  for (int threads : {1, 2, 3}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    BuiltScene s = dropped_sheet(64);
+    Workspace ws = make_workspace(s.model);
+    run_steps(s.model, s.state, ws, s.model.dt, 6);
+    CHECK(ws.strain_iterations_total > 6);
+    results.push_back(s.state);
+  }
+  for (int t = 1; t < 3; ++t) {
+    CHECK(std::memcmp(results[t].x.data(), results[0].x.data(), results[0].x.size() * sizeof(Vec3)) == 0);
+    CHECK(std::memcmp(results[t].v.data(), results[0].v.data(), results[0].v.size() * sizeof(Vec3)) == 0);
+  }
+}
