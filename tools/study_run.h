@@ -27,7 +27,7 @@ inline const std::vector<StudyMethod> study_methods{
 
 struct TimedRun {
   State state;                  // after the last step
-  double cpu_seconds = 0;       // thread CPU time of the fastest repeat (tools/cpu_clock.h)
+  double cpu_seconds = 0;       // thread CPU time of the fastest repeat (sim/cpu_clock.h)
   std::int64_t force_evaluations = 0;
   std::int64_t steps = 0;
   bool finite = true;           // every position and velocity finite at the end
@@ -53,7 +53,7 @@ std::string csv_number(double v);
 
 // Calls task(0) .. task(count - 1), each once, on as many threads as the machine has cores (none hard-wired).
 // The studies' runs are independent and each is timed by its own thread's CPU clock, so running them side by
-// side changes no figure but the wall time (tools/cpu_clock.h).
+// side changes no figure but the wall time (sim/cpu_clock.h).
 void run_tasks_in_parallel(std::size_t count, const std::function<void(std::size_t)>& task);
 
 // Least-squares slope of log(error) against log(step): the measured order of convergence. Points with a
