@@ -9,13 +9,13 @@
 #include <memory>
 
 #include "bench/kernel_traffic.h"
-#include "tests/support/sheet_scene.h"
 #include "core/csr.h"
 #include "core/spring_chunks.h"
 #include "io/obj_writer.h"
 #include "systems/normals.h"
 #include "systems/spring_forces.h"
 #include "systems/step.h"
+#include "tests/support/sheet_scene.h"
 
 namespace clothsim::bench {
 namespace {
@@ -52,17 +52,13 @@ void set_counters(benchmark::State& st, double items, double bytes) {
   st.SetBytesProcessed(int64_t(bytes * double(st.iterations())));
 }
 
-void BM_springs(benchmark::State& st, SpringLayout layout) {
+void BM_springs(benchmark::State& st, BenchLayout layout) {
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, st.range(1));
   Fixture& fx = fixture(int(st.range(0)), Integrator::symplectic);
   const Model& m = fx.built.model;
   const State& s = fx.warm;
   std::vector<Vec3> scratch(m.spring_count);  // two_phase's buffer, owned here so every layout runs on one model
-  auto run = [&] {
-    if (layout == SpringLayout::gather) eval_springs_gather(m, s.x, s.v, fx.ws.f);
-    else if (layout == SpringLayout::blocked) eval_springs_blocked(m, s.x, s.v, fx.ws.f);
-    else eval_springs_two_phase(m, s.x, s.v, fx.ws.f, scratch);
-  };
+  auto run = [&] { eval_springs_as(layout, m, s.x, s.v, fx.ws.f, scratch); };
   run();  // warm-up: the scratch pages are touched outside the timing
   for (auto _ : st) {
     run();
@@ -146,9 +142,9 @@ void sizes_threads(benchmark::internal::Benchmark* b) {
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 
-BENCHMARK_CAPTURE(BM_springs, gather, SpringLayout::gather)->Apply(sizes_threads);
-BENCHMARK_CAPTURE(BM_springs, two_phase, SpringLayout::two_phase)->Apply(sizes_threads);
-BENCHMARK_CAPTURE(BM_springs, blocked, SpringLayout::blocked)->Apply(sizes_threads);
+BENCHMARK_CAPTURE(BM_springs, gather, BenchLayout::gather)->Apply(sizes_threads);
+BENCHMARK_CAPTURE(BM_springs, two_phase, BenchLayout::two_phase)->Apply(sizes_threads);
+BENCHMARK_CAPTURE(BM_springs, blocked, BenchLayout::blocked)->Apply(sizes_threads);
 BENCHMARK_CAPTURE(BM_step, symplectic, Integrator::symplectic, Schedule::fused)->Apply(sizes_threads);
 BENCHMARK_CAPTURE(BM_step, rk4, Integrator::rk4, Schedule::fused)->Apply(sizes_threads);
 BENCHMARK_CAPTURE(BM_step, symplectic_unfused, Integrator::symplectic, Schedule::unfused)->Apply(sizes_threads);

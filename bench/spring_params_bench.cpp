@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bench/kernel_traffic.h"
 #include "core/build_model.h"
 #include "core/csr.h"
 #include "systems/parallel.h"
@@ -108,9 +109,7 @@ void eval_blocked_scalar(const Model& m, Real ke, Real kd, std::span<const Vec3>
   }
 }
 
-SpringLayout layout_arg(benchmark::State& st) {
-  return st.range(0) == 0 ? SpringLayout::gather : st.range(0) == 1 ? SpringLayout::two_phase : SpringLayout::blocked;
-}
+bench::BenchLayout layout_arg(benchmark::State& st) { return bench::BenchLayout(st.range(0)); }
 
 void SpringParams_scalar_reference(benchmark::State& st) {
   tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
@@ -118,17 +117,15 @@ void SpringParams_scalar_reference(benchmark::State& st) {
   const Model& m = b.scene.model;
   const Real ke = m.spring_ke[0], kd = m.spring_kd[0];
   if (m.spring_pass_offset.empty()) st.SkipWithError("expected spring chunks (grids build them)");
-  const bool blocked = layout_arg(st) == SpringLayout::blocked;
+  const bool blocked = layout_arg(st) == bench::BenchLayout::blocked;
   for (auto _ : st) {
     if (blocked) eval_blocked_scalar(m, ke, kd, b.scene.state.x, b.v, b.f);
     else eval_two_phase_scalar(m, ke, kd, b.scene.state.x, b.v, b.f, b.spring_force);
     benchmark::DoNotOptimize(b.f.data());
   }
   // The reference must compute what the real kernel computes, bit for bit, or the comparison means nothing.
-  Model real = m;
-  real.spring_layout = layout_arg(st);
   std::vector<Vec3> f_real(b.f.size());
-  eval_springs(real, b.scene.state.x, b.v, f_real, b.spring_force);
+  bench::eval_springs_as(layout_arg(st), m, b.scene.state.x, b.v, f_real, b.spring_force);
   if (f_real != b.f) st.SkipWithError("scalar_reference differs from the real kernel");
   st.counters["springs/s"] = benchmark::Counter(double(m.spring_count), benchmark::Counter::kIsIterationInvariantRate);
 }
@@ -136,10 +133,9 @@ void SpringParams_scalar_reference(benchmark::State& st) {
 void SpringParams_uniform_field(benchmark::State& st) {
   tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   SpringBench b;
-  b.scene.model.spring_layout = layout_arg(st);
   if (!b.scene.model.spring_ke.uniform()) st.SkipWithError("expected a uniform stiffness");
   for (auto _ : st) {
-    eval_springs(b.scene.model, b.scene.state.x, b.v, b.f, b.spring_force);
+    bench::eval_springs_as(layout_arg(st), b.scene.model, b.scene.state.x, b.v, b.f, b.spring_force);
     benchmark::DoNotOptimize(b.f.data());
   }
   st.counters["springs/s"] = benchmark::Counter(double(b.scene.model.spring_count), benchmark::Counter::kIsIterationInvariantRate);
@@ -149,10 +145,9 @@ void SpringParams_per_spring_field(benchmark::State& st) {
   tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   SpringBench b;
   b.make_per_spring();
-  b.scene.model.spring_layout = layout_arg(st);
   if (b.scene.model.spring_ke.uniform()) st.SkipWithError("expected per-spring stiffness");
   for (auto _ : st) {
-    eval_springs(b.scene.model, b.scene.state.x, b.v, b.f, b.spring_force);
+    bench::eval_springs_as(layout_arg(st), b.scene.model, b.scene.state.x, b.v, b.f, b.spring_force);
     benchmark::DoNotOptimize(b.f.data());
   }
   st.counters["springs/s"] = benchmark::Counter(double(b.scene.model.spring_count), benchmark::Counter::kIsIterationInvariantRate);

@@ -287,7 +287,6 @@ State make_state(const Model& model, std::vector<Vec3> positions) {
 Workspace make_workspace(const Model& model) {
   Workspace ws;
   ws.f.assign(model.particle_count, Vec3::Zero());
-  if (model.spring_layout == SpringLayout::two_phase) ws.spring_force.assign(model.spring_count, Vec3::Zero());
   if (model.integrator == Integrator::rk4) {
     ws.stage_x.assign(model.particle_count, Vec3::Zero());
     ws.stage_v.assign(model.particle_count, Vec3::Zero());

@@ -15,7 +15,7 @@ struct Model;
 void build_particle_springs(const Model& model, std::vector<Index>& offset, std::vector<Index>& index);
 // Fills model.particle_spring_offset / particle_spring_index.
 void build_particle_springs(Model& model);
-// Whether the model's kernels read the spring CSR: the gather and two_phase layouts and the implicit integrator.
+// Whether the model's kernels read the spring CSR: the gather layout and the implicit integrator.
 // The blocked layout alone does not (nor the strain limit, which sweeps by colour), and the model then goes
 // without it.
 bool needs_particle_springs(const Model& model);

@@ -22,9 +22,8 @@ inline constexpr std::array<const char*, spring_kind_count> spring_kind_names{
 
 // How spring forces are accumulated without floating-point races (docs/performance.md, "Spring-force layouts").
 enum class SpringLayout {
-  gather,     // per particle over a CSR of incident springs: each spring computed twice
-  two_phase,  // each spring once into a per-spring buffer, then a per-particle gather of those
-  blocked,    // each spring once, scattered into f by chunks; chunks of one pass touch disjoint particles
+  gather,   // per particle over a CSR of incident springs: each spring computed twice
+  blocked,  // each spring once, scattered into f by chunks; chunks of one pass touch disjoint particles
 };
 
 // What output and reporting need of one cloth; kept out of the arrays the kernels stream.
@@ -157,7 +156,6 @@ struct State {
 
 struct Workspace {
   std::vector<Vec3> f;             // accumulated force, then acceleration (particle_count)
-  std::vector<Vec3> spring_force;  // force on spring_a, two_phase layout only (spring_count or 0)
   std::vector<Vec3> stage_x, stage_v;  // RK4 stage state (particle_count, or 0 for other integrators)
   std::vector<Vec3> normal;        // unit vertex normals for wind and output (particle_count)
   // implicit integrator scratch (particle_count / spring_count, or 0 for other integrators)

@@ -102,10 +102,8 @@ void eval_springs_blocked(const Model& m, std::span<const Vec3> x, std::span<con
   eval_springs_blocked_then(m, x, v, f, [](Index) {});
 }
 
-void eval_springs(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f,
-                  std::span<Vec3> spring_scratch) {
+void eval_springs(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f) {
   if (m.spring_layout == SpringLayout::blocked) eval_springs_blocked(m, x, v, f);
-  else if (m.spring_layout == SpringLayout::two_phase) eval_springs_two_phase(m, x, v, f, spring_scratch);
   else eval_springs_gather(m, x, v, f);
 }
 

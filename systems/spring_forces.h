@@ -35,9 +35,10 @@ inline Vec3 spring_force(const Vec3& xa, const Vec3& xb, const Vec3& va, const V
 }
 
 // f[i] = sum of the spring forces on particle i (overwrites f), in the model's spring_layout.
-void eval_springs(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f,
-                  std::span<Vec3> spring_scratch);
-// The gather and two-phase layouts, callable directly so the benchmark can compare them.
+void eval_springs(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f);
+// The gather layout, and two-phase (each spring once into a per-spring buffer the caller owns, then a gather):
+// callable directly so the benchmarks can compare them. No model selects two-phase: blocked computes each spring
+// once without the buffer (docs/performance.md, "Spring-force layouts").
 void eval_springs_gather(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f);
 void eval_springs_two_phase(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v,
                             std::span<Vec3> f, std::span<Vec3> spring_force);
