@@ -7,12 +7,12 @@
 #include <cstdio>
 #include <string>
 
-#include "tests/support/sheet_scene.h"
 #include "core/csr.h"
 #include "io/obj_writer.h"
 #include "systems/normals.h"
 #include "systems/spring_forces.h"
 #include "systems/step.h"
+#include "tests/support/sheet_scene.h"
 
 using namespace clothsim;
 

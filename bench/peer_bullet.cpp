@@ -21,9 +21,9 @@
 #include <cstring>
 #include <string>
 
-#include "tests/support/sheet_scene.h"
 #include "systems/spring_forces.h"
 #include "systems/step.h"
+#include "tests/support/sheet_scene.h"
 
 using namespace clothsim;
 

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "tests/support/cli_harness.h"
 #include "io/obj_reader.h"
+#include "tests/support/cli_harness.h"
 
 using namespace clothsim;
 using namespace clothsim::test;

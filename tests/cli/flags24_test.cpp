@@ -6,11 +6,11 @@
 #include <set>
 #include <sstream>
 
-#include "tests/support/cli_harness.h"
 #include "core/build_model.h"
 #include "io/cloth_maps.h"
 #include "io/obj_reader.h"
 #include "io/scene_xml.h"
+#include "tests/support/cli_harness.h"
 
 using namespace clothsim;
 using namespace clothsim::test;

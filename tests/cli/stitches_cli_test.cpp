@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "tests/support/cli_harness.h"
 #include "io/obj_reader.h"
+#include "tests/support/cli_harness.h"
 
 using namespace clothsim;
 using namespace clothsim::test;

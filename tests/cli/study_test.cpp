@@ -7,8 +7,8 @@
 #include <numbers>
 #include <sstream>
 
-#include "tests/support/cli_harness.h"
 #include "core/scene_desc.h"
+#include "tests/support/cli_harness.h"
 
 namespace fs = std::filesystem;
 using namespace clothsim::test;

@@ -9,10 +9,10 @@
 #include <cstring>
 #include <random>
 
-#include "tests/support/collision_scene.h"
 #include "systems/collision/collide.h"
 #include "systems/collision/collision_check.h"
 #include "systems/collision/proximity.h"
+#include "tests/support/collision_scene.h"
 
 using namespace clothsim;
 using clothsim::test::load_collision_scene;

@@ -9,8 +9,8 @@
 #include <cstring>
 #include <functional>
 
-#include "tests/support/collision_scene.h"
 #include "systems/collision/collision_check.h"
+#include "tests/support/collision_scene.h"
 
 using namespace clothsim;
 using clothsim::test::load_collision_scene;

@@ -7,11 +7,11 @@
 #include <cmath>
 #include <cstdio>
 
-#include "tests/support/collision_scene.h"
 #include "systems/collision/collision_check.h"
+#include "systems/collision/proximity.h"
 #include "systems/collision/response.h"
 #include "systems/diagnostics.h"
-#include "systems/collision/proximity.h"
+#include "tests/support/collision_scene.h"
 
 using namespace clothsim;
 

@@ -6,11 +6,11 @@
 
 #include <cstring>
 
-#include "tests/support/collision_scene.h"
 #include "systems/collision/collide.h"
 #include "systems/collision/collision_check.h"
 #include "systems/collision/push_out.h"
 #include "systems/step.h"
+#include "tests/support/collision_scene.h"
 
 using namespace clothsim;
 using clothsim::test::LoadedCollisionScene;

@@ -7,11 +7,11 @@
 #include <cstring>
 #include <random>
 
-#include "tests/support/collision_scene.h"
 #include "systems/collision/collide.h"
 #include "systems/collision/collision_check.h"
 #include "systems/collision/proximity.h"
 #include "systems/step.h"
+#include "tests/support/collision_scene.h"
 
 using namespace clothsim;
 using clothsim::test::load_collision_scene;

@@ -6,13 +6,13 @@
 #include <cmath>
 #include <cstring>
 
-#include "tests/support/collision_scene.h"
 #include "io/scene_family.h"
 #include "sim/frame_stepper.h"
-#include "tests/support/scene_fixtures.h"
 #include "systems/auto_step.h"
 #include "systems/diagnostics.h"
 #include "systems/spring_forces.h"
+#include "tests/support/collision_scene.h"
+#include "tests/support/scene_fixtures.h"
 
 using namespace clothsim;
 using namespace clothsim::test;

@@ -10,10 +10,10 @@
 #include <cstring>
 #include <random>
 
-#include "tests/support/collision_scene.h"
 #include "systems/collision/collide.h"
 #include "systems/collision/collision_check.h"
 #include "systems/collision/impact_zones.h"
+#include "tests/support/collision_scene.h"
 
 using namespace clothsim;
 using clothsim::test::load_collision_scene;

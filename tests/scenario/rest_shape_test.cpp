@@ -3,8 +3,8 @@
 // 1.1 times its own, 1.21 times its mass, and, free in space, grows to 1.1 times its width.
 #include <doctest/doctest.h>
 
-#include "tests/support/collision_scene.h"
 #include "core/error.h"
+#include "tests/support/collision_scene.h"
 
 using namespace clothsim;
 using clothsim::test::load_collision_scene;

@@ -7,10 +7,10 @@
 #include "core/build_collision.h"
 #include "core/build_model.h"
 #include "core/grid.h"
+#include "io/obj_reader.h"
 #include "systems/collision/collide.h"
 #include "systems/collision/collision_check.h"
 #include "tests/support/collision_scene.h"
-#include "io/obj_reader.h"
 
 using namespace clothsim;
 

@@ -4,11 +4,11 @@
 
 #include <cmath>
 
-#include "tests/support/collision_scene.h"
 #include "io/scene_family.h"
-#include "tests/support/scene_fixtures.h"
 #include "systems/auto_step.h"
 #include "systems/stability.h"
+#include "tests/support/collision_scene.h"
+#include "tests/support/scene_fixtures.h"
 
 using namespace clothsim;
 using namespace clothsim::test;

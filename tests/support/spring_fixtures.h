@@ -5,8 +5,8 @@
 
 #include "core/build_model.h"
 #include "core/model.h"
-#include "tests/support/scene_fixtures.h"
 #include "systems/step.h"
+#include "tests/support/scene_fixtures.h"
 
 namespace clothsim::test {
 

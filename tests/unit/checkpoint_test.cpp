@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "tests/support/cli_harness.h"
 #include "core/error.h"
 #include "io/checkpoint.h"
+#include "tests/support/cli_harness.h"
 
 using namespace clothsim;
 

@@ -5,10 +5,10 @@
 #include <cmath>
 
 #include "core/transform.h"
-#include "tests/support/scene_fixtures.h"
 #include "systems/forces.h"
 #include "systems/random_force.h"
 #include "systems/step.h"
+#include "tests/support/scene_fixtures.h"
 
 using namespace clothsim;
 

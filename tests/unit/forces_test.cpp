@@ -6,10 +6,10 @@
 
 #include <cstring>
 
-#include "tests/support/sheet_scene.h"
 #include "core/spring_chunks.h"
-#include "tests/support/spring_fixtures.h"
 #include "systems/step.h"
+#include "tests/support/sheet_scene.h"
+#include "tests/support/spring_fixtures.h"
 
 using namespace clothsim;
 

@@ -5,8 +5,8 @@
 
 #include <filesystem>
 
-#include "tests/support/cli_harness.h"
 #include "tests/fuzz/fuzz_inputs.h"
+#include "tests/support/cli_harness.h"
 
 namespace fs = std::filesystem;
 

@@ -6,10 +6,10 @@
 #include <cstring>
 
 #include "core/memory_bytes.h"
-#include "tests/support/scene_fixtures.h"
-#include "tests/support/spring_fixtures.h"
 #include "systems/integrate_implicit.h"
 #include "systems/step.h"
+#include "tests/support/scene_fixtures.h"
+#include "tests/support/spring_fixtures.h"
 
 using namespace clothsim;
 using namespace clothsim::test;

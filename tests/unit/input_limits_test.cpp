@@ -3,11 +3,11 @@
 
 #include <string>
 
-#include "tests/support/cli_harness.h"
 #include "core/error.h"
 #include "core/limits.h"
 #include "io/obj_reader.h"
 #include "io/scene_xml.h"
+#include "tests/support/cli_harness.h"
 
 using namespace clothsim;
 namespace fs = std::filesystem;

@@ -6,14 +6,14 @@
 #include <Eigen/Dense>
 #include <cmath>
 
-#include "tests/support/dense_system.h"
-#include "tests/support/spring_fixtures.h"
 #include "systems/diagnostics.h"
 #include "systems/forces.h"
 #include "systems/integrate_implicit.h"
 #include "systems/spring_forces.h"
 #include "systems/spring_jacobian.h"
 #include "systems/stability.h"
+#include "tests/support/dense_system.h"
+#include "tests/support/spring_fixtures.h"
 
 using namespace clothsim;
 using namespace clothsim::test;

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "tests/support/scene_fixtures.h"
 #include "systems/step.h"
+#include "tests/support/scene_fixtures.h"
 
 using namespace clothsim;
 

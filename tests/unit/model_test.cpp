@@ -3,8 +3,8 @@
 
 #include "core/csr.h"
 #include "core/error.h"
-#include "tests/support/scene_fixtures.h"
 #include "systems/spring_forces.h"
+#include "tests/support/scene_fixtures.h"
 
 using namespace clothsim;
 

@@ -4,10 +4,10 @@
 
 #include <cstring>
 
-#include "tests/support/dense_system.h"
-#include "tests/support/spring_fixtures.h"
 #include "systems/integrate_implicit.h"
 #include "systems/multigrid.h"
+#include "tests/support/dense_system.h"
+#include "tests/support/spring_fixtures.h"
 
 using namespace clothsim;
 using namespace clothsim::test;

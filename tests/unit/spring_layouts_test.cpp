@@ -6,11 +6,11 @@
 #include <algorithm>
 #include <cstring>
 
-#include "tests/support/sheet_scene.h"
 #include "core/csr.h"
 #include "core/spring_chunks.h"
-#include "tests/support/spring_fixtures.h"
 #include "systems/spring_forces.h"
+#include "tests/support/sheet_scene.h"
+#include "tests/support/spring_fixtures.h"
 
 using namespace clothsim;
 

@@ -8,10 +8,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "tests/support/spring_fixtures.h"
 #include "systems/diagnostics.h"
 #include "systems/spring_jacobian.h"
 #include "systems/stability.h"
+#include "tests/support/spring_fixtures.h"
 
 using namespace clothsim;
 using namespace clothsim::test;

@@ -8,12 +8,12 @@
 #include "core/csr.h"
 #include "core/spring_colours.h"
 #include "core/tethers.h"
-#include "tests/support/spring_fixtures.h"
 #include "systems/collision/collide.h"
 #include "systems/diagnostics.h"
 #include "systems/integrate_implicit.h"
 #include "systems/spring_forces.h"
 #include "systems/strain_limit.h"
+#include "tests/support/spring_fixtures.h"
 
 using namespace clothsim;
 using namespace clothsim::test;

@@ -3,11 +3,11 @@
 
 #include <cmath>
 
-#include "tests/support/cli_harness.h"
 #include "core/build_model.h"
 #include "core/error.h"
 #include "io/cloth_maps.h"
 #include "io/texture_map.h"
+#include "tests/support/cli_harness.h"
 #include "tests/support/png_fixtures.h"
 
 #include <stb_image_write.h>
