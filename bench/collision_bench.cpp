@@ -148,7 +148,7 @@ void BM_ColliderPass(benchmark::State& st) {
   Sheet s;
   s.built = build_model(scene, {make_cloth_grid(c)});
   const Real r = 0.8;
-  build_collision(scene, {ColliderMeshes{{sphere_mesh(r, 128)}, 0}}, s.built.state.x, s.built.model);
+  build_collision(scene, {ColliderMeshes{sphere_mesh(r, 128), 0, 0}}, s.built.state.x, s.built.model);
   std::mt19937 rng(3);
   std::uniform_real_distribution<Real> u(-1, 1);
   s.in = s.built.state;

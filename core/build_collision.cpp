@@ -6,7 +6,6 @@
 #include <tuple>
 
 #include "core/attachments.h"
-#include "core/error.h"
 #include "core/topology.h"
 #include "core/transform.h"
 
@@ -137,8 +136,7 @@ void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& 
     ci.friction = d.friction;
     place_analytic(d, ci);
     if (d.shape == ColliderShape::mesh || d.shape == ColliderShape::sequence) {
-      const std::vector<MeshData>& frames = meshes[k].frames;
-      const MeshData& first = frames.front();
+      const MeshData& first = *meshes[k].mesh;
       ci.vertex_begin = c.mesh_vertex_count;
       ci.vertex_end = ci.vertex_begin + first.vertex_count();
       ci.tri_begin = Index(c.mesh_tri_collider.size());
@@ -151,25 +149,8 @@ void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& 
       c.mesh_vertex_count = ci.vertex_end;
       if (d.shape == ColliderShape::sequence) {
         ci.first_frame = meshes[k].first_frame;
-        ci.frame_count = int(frames.size());
-        ci.frame_offset = c.frame_x.size();
+        ci.frame_count = meshes[k].frame_count;
         c.animated = true;
-        for (const MeshData& f : frames) {
-          if (f.vertex_count() == first.vertex_count() && f.triangle_count() == first.triangle_count() &&
-              f.tri_index != first.tri_index) {
-            const auto t = (std::mismatch(f.tri_index.begin(), f.tri_index.end(), first.tri_index.begin()).first -
-                            f.tri_index.begin()) / 3;
-            throw Error(f.source, "collider '" + d.name + "': triangle " + std::to_string(t + 1) +
-                                      " has other corners (or another winding) than in " + first.source +
-                                      "; expected every frame to have the same triangles, only moved vertices");
-          }
-          if (f.vertex_count() != first.vertex_count() || f.tri_index != first.tri_index)
-            throw Error(f.source, "collider '" + d.name + "': frame has " + std::to_string(f.vertex_count()) +
-                                      " vertices and " + std::to_string(f.triangle_count()) + " triangles; expected " +
-                                      std::to_string(first.vertex_count()) + " and " +
-                                      std::to_string(first.triangle_count()) + " like " + first.source);
-          for (const Vec3& p : f.positions) c.frame_x.push_back(apply_transform(d.transform, p));
-        }
       }
     }
     c.colliders.push_back(std::move(ci));
@@ -227,6 +208,12 @@ void make_collision_workspace(const Model& m, CollisionScratch& s) {
   s.acc_dx.assign(3 * std::size_t(m.particle_count), 0);
   s.acc_count.assign(m.particle_count, 0);
   s.deep_collider.assign(m.particle_count, -1);
+  s.collider_frames.assign(c.colliders.size(), {});
+  for (std::size_t k = 0; k < c.colliders.size(); ++k) {
+    const ColliderInfo& ci = c.colliders[k];
+    if (ci.shape == ColliderShape::sequence)
+      s.collider_frames[k].x.resize(std::size_t(collider_window_frames) * (ci.vertex_end - ci.vertex_begin));
+  }
   if (c.impact_zones()) {
     const std::size_t nodes = std::size_t(m.particle_count) + c.mesh_vertex_count;
     s.zones.parent.resize(nodes);

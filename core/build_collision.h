@@ -1,6 +1,7 @@
 #pragma once
 // Colliders and cloth-side collision topology into Model::collision; nothing when the scene has neither
 // colliders nor a self-colliding cloth (model no more than a scene needs).
+#include <optional>
 #include <vector>
 
 #include "core/mesh_data.h"
@@ -8,15 +9,15 @@
 
 namespace clothsim {
 
-// One collider's meshes before its transform: one for <static obj>, one per frame for <static sequence>
-// (frames first_frame, first_frame + 1, ...), none for analytic shapes.
+// One collider's mesh before its transform: the OBJ of <static obj>, the first frame of <static sequence> (its
+// triangles; the run streams the frames, sim/collider_track.h), none for analytic shapes.
 struct ColliderMeshes {
-  std::vector<MeshData> frames;
-  int first_frame = 0;
+  std::optional<MeshData> mesh;
+  int first_frame = 0;  // sequence: frame number of its first frame
+  int frame_count = 0;  // sequence: frames first_frame .. first_frame + frame_count - 1
 };
 
-// x: the cloth's initial positions (the BVH is built over them). Throws Error for a sequence whose frames
-// differ in vertex count or triangles.
+// x: the cloth's initial positions (the BVH is built over them).
 void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& meshes,
                      const std::vector<Vec3>& x, Model& model);
 

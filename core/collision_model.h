@@ -27,9 +27,8 @@ struct ColliderInfo {
   Vec3 normal{0, 1, 0};  // unit
   Index vertex_begin = 0, vertex_end = 0;  // rows of CollisionModel::mesh vertices (meshes only)
   Index tri_begin = 0, tri_end = 0;        // rows of mesh_tri_index / 3
-  int first_frame = 0;                     // sequence: frame number of its first stored frame
-  int frame_count = 0;                     // sequence: frames stored (0 for a static mesh)
-  std::size_t frame_offset = 0;            // sequence: start in frame_x (frame_count * vertex count rows)
+  int first_frame = 0;                     // sequence: frame number of its first frame
+  int frame_count = 0;                     // sequence: frames in the sequence (0 for a static mesh)
   bool closed = false;                     // every edge has two triangles: the inside test applies
 };
 
@@ -55,10 +54,9 @@ struct CollisionModel {
 
   // --- collider meshes, all colliders' vertices and triangles concatenated
   Index mesh_vertex_count = 0;
-  std::vector<Vec3> mesh_x;          // static positions, m (mesh_vertex_count)
+  std::vector<Vec3> mesh_x;          // static positions (a sequence's first frame), m (mesh_vertex_count)
   std::vector<Index> mesh_tri_index; // into mesh vertices (3 * mesh tris)
   std::vector<Index> mesh_tri_collider;  // owning collider (mesh tris)
-  std::vector<Vec3> frame_x;         // animated colliders' frames, m (sum of frame_count * vertices)
   // Unique collider mesh edges (mesh vertex indices), reported by their lowest triangle like the cloth's.
   std::vector<Index> mesh_edge_a, mesh_edge_b, mesh_edge_first_tri;  // (mesh edge count)
   std::vector<Index> mesh_tri_edge;                                  // (3 * mesh tris)
@@ -119,12 +117,23 @@ struct CollisionModel {
   }
 };
 
-// Collider mesh vertex v (a row of mesh_x) at a blend of frame_blend: its one position for a static mesh.
-inline Vec3 collider_vertex(const CollisionModel& c, const ColliderInfo& ci, const FrameBlend& b, Index v) {
+// The frames of one sequence collider a run holds at once: sequence frames first .. first + count - 1 (counted
+// from 0, as FrameBlend counts them), transformed. The run reads them from disk ahead of the steps that blend
+// them (sim/collider_track.h), so memory does not grow with the sequence's length.
+inline constexpr int collider_window_frames = 4;
+struct ColliderWindow {
+  int first = 0, count = 0;
+  std::vector<Vec3> x;  // m (collider_window_frames x the collider's vertices; the first count x vertices hold frames)
+  bool holds(int f) const { return f >= first && f < first + count; }
+};
+
+// Collider mesh vertex v (a row of mesh_x) at a blend of frame_blend, read from the collider's window: its one
+// position for a static mesh. The window must hold frames b.f0 and b.f1.
+inline Vec3 collider_vertex(const CollisionModel& c, const ColliderInfo& ci, const ColliderWindow& w,
+                            const FrameBlend& b, Index v) {
   if (ci.shape != ColliderShape::sequence) return c.mesh_x[v];
   const std::size_t nv = std::size_t(ci.vertex_end - ci.vertex_begin), k = std::size_t(v - ci.vertex_begin);
-  return (1 - b.w) * c.frame_x[ci.frame_offset + std::size_t(b.f0) * nv + k] +
-         b.w * c.frame_x[ci.frame_offset + std::size_t(b.f1) * nv + k];
+  return (1 - b.w) * w.x[std::size_t(b.f0 - w.first) * nv + k] + b.w * w.x[std::size_t(b.f1 - w.first) * nv + k];
 }
 
 // Spatial hash after Teschner et al. 2003: entries (bucket, prim, cell) scattered into contiguous bucket ranges.
@@ -168,6 +177,9 @@ struct ZoneScratch {
 
 struct CollisionScratch {
   std::vector<Vec3> collider_x0, collider_x1;  // collider mesh vertices at the start and end of the step
+  // The animated colliders' frames the steps read, filled by the frame loop (sim/collider_track.h); one per
+  // collider, sized for sequences only (colliders)
+  std::vector<ColliderWindow> collider_frames;
   std::vector<Aabb> prim_box;           // swept, thickness-inflated box per prim (prim count)
   std::vector<Aabb> node_box;           // BVH node boxes (node count)
   Aabb query_bounds;                    // union of the cloth vertices' swept boxes

@@ -65,14 +65,13 @@ std::uint64_t hash_mesh(const MeshData& m, std::uint64_t h) {
 
 }  // namespace
 
-std::uint64_t inputs_fingerprint(std::string_view scene_text, std::span<const MeshData> cloths,
-                                 std::span<const ColliderMeshes> colliders) {
+std::uint64_t inputs_fingerprint(std::string_view scene_text, std::span<const MeshData> cloths) {
   std::uint64_t h = hash64(scene_text);
   for (const MeshData& m : cloths) h = hash_mesh(m, h);
-  for (const ColliderMeshes& c : colliders)
-    for (const MeshData& m : c.frames) h = hash_mesh(m, h);
   return h;
 }
+
+std::uint64_t fingerprint_mesh(const MeshData& mesh, std::uint64_t h) { return hash_mesh(mesh, h); }
 
 std::uint64_t scene_fingerprint(std::uint64_t inputs, const Model& model, std::span<const Vec3> x0) {
   std::uint64_t h = hash64(std::string_view(reinterpret_cast<const char*>(&inputs), sizeof inputs));

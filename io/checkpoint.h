@@ -29,10 +29,11 @@ struct Checkpoint {
 // FNV-1a, 64-bit: catches truncation and any flipped byte with probability 1 - 2^-64; not cryptographic.
 std::uint64_t hash64(std::string_view bytes, std::uint64_t h = 0xcbf29ce484222325ULL);
 
-// Fingerprint of every input's content as read: the scene file's text, each cloth mesh (positions, UVs,
-// triangles and the parameters sampled from its maps) and each collider mesh frame.
-std::uint64_t inputs_fingerprint(std::string_view scene_text, std::span<const MeshData> cloths,
-                                 std::span<const ColliderMeshes> colliders);
+// Fingerprint of every input's content as read: the scene file's text and each cloth mesh (positions, UVs,
+// triangles and the parameters sampled from its maps), then each collider mesh frame chained on with
+// fingerprint_mesh as io::read_colliders reads them (sim/load_scene.cpp).
+std::uint64_t inputs_fingerprint(std::string_view scene_text, std::span<const MeshData> cloths);
+std::uint64_t fingerprint_mesh(const MeshData& mesh, std::uint64_t h);
 
 // Fingerprint of what a run depends on: its inputs (inputs_fingerprint), the built model's initial positions
 // (which cover the transforms) and the step size.

@@ -23,10 +23,14 @@ LoadedScene load_scene(const std::string& path) {
   s.desc = io::parse_scene(path, text);
   std::vector<MeshData> meshes;
   for (const ClothDesc& c : s.desc.cloths) meshes.push_back(c.obj.empty() ? make_cloth_grid(c) : io::read_obj(c.obj));
-  const std::vector<ColliderMeshes> colliders = io::read_colliders(s.desc);
   for (std::size_t c = 0; c < meshes.size(); ++c) meshes[c].params = io::sample_cloth_maps(s.desc, s.desc.cloths[c], meshes[c]);
   for (std::size_t c = 0; c < meshes.size(); ++c) meshes[c].rest_positions = io::read_rest_shape(s.desc, s.desc.cloths[c], meshes[c]);
-  s.inputs_fingerprint = io::inputs_fingerprint(text, meshes, colliders);
+  // Every collider frame is read here once, checked and fingerprinted, but only the first is kept: the run
+  // streams the frames (sim/collider_track.h).
+  std::uint64_t fingerprint = io::inputs_fingerprint(text, meshes);
+  const std::vector<ColliderMeshes> colliders =
+      io::read_colliders(s.desc, [&](const MeshData& m) { fingerprint = io::fingerprint_mesh(m, fingerprint); });
+  s.inputs_fingerprint = fingerprint;
   const auto t1 = clock::now();
   const double c1 = process_cpu_seconds();
   s.built = build_model(s.desc, std::move(meshes));  // consumed: a large mesh is not held twice

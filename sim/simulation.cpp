@@ -11,11 +11,12 @@
 
 namespace clothsim::sim {
 
-Simulation::Simulation(BuiltScene built)
+Simulation::Simulation(BuiltScene built, ColliderTrack track)
     : model_(std::move(built.model)),
       state_(std::move(built.state)),
       scratch_(state_),
       ws_(make_workspace(model_)),
+      track_(std::move(track)),
       stepper_(model_, state_),
       next_frame_(model_.start_frame) {}
 
@@ -46,7 +47,10 @@ FrameReport Simulation::advance_frame() {
   r.frame = next_frame_++;
   ws_.solve_log.clear();
   bool stepped = true;
-  if (r.frame > model_.start_frame) stepped = stepper_.advance_frame(model_, state_, scratch_, ws_, r.steps);
+  if (r.frame > model_.start_frame) {
+    track_.prepare(model_, r.frame, ws_.collision);
+    stepped = stepper_.advance_frame(model_, state_, scratch_, ws_, r.steps);
+  }
   // The divergence guard (docs/stability.md): every frame is checked before anyone writes it.
   const bool finite = state_is_finite(state_);
   const Real energy_rise = finite ? stepper_.energy_rise(model_, state_) : 0;

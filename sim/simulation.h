@@ -9,7 +9,9 @@
 
 #include "core/build_model.h"
 #include "core/model.h"
+#include "sim/collider_track.h"
 #include "sim/frame_stepper.h"
+#include "sim/load_scene.h"
 
 namespace clothsim::sim {
 
@@ -27,8 +29,11 @@ struct FrameReport {
 
 class Simulation {
  public:
-  // The scene's initial state is the divergence guard's reference (its energy and rest positions).
-  explicit Simulation(BuiltScene built);
+  // The scene's initial state is the divergence guard's reference (its energy and rest positions). A scene with
+  // animated colliders needs its track (made from its SceneDesc) to stream their frames.
+  explicit Simulation(BuiltScene built, ColliderTrack track = {});
+  // A loaded scene, copied: its model, initial state and collider track.
+  explicit Simulation(const LoadedScene& scene) : Simulation(scene.built, ColliderTrack(scene.desc)) {}
 
   const Model& model() const { return model_; }
   const State& state() const { return state_; }
@@ -52,6 +57,7 @@ class Simulation {
   Model model_;
   State state_, scratch_;
   Workspace ws_;
+  ColliderTrack track_;
   FrameStepper stepper_;
   int next_frame_;
   std::int64_t failed_steps_ = 0;

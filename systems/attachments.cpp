@@ -5,7 +5,7 @@
 
 namespace clothsim {
 
-void apply_attachments(const Model& m, const State& in, State& out, Real h) {
+void apply_attachments(const Model& m, const CollisionScratch& s, const State& in, State& out, Real h) {
   const Index n = Index(m.attach_particle.size());
   if (n == 0) return;
   const CollisionModel& c = m.collision;
@@ -16,8 +16,9 @@ void apply_attachments(const Model& m, const State& in, State& out, Real h) {
     const ColliderInfo& ci = c.colliders[m.attach_collider[k]];
     const FrameBlend b = frame_blend(ci, m.start_frame, m.fps, t);
     const Index* v = &c.mesh_tri_index[3 * m.attach_tri[k]];
-    const Vec3 p = attachment_point(m.attach_weight[k], m.attach_offset[k], collider_vertex(c, ci, b, v[0]),
-                                    collider_vertex(c, ci, b, v[1]), collider_vertex(c, ci, b, v[2]));
+    const ColliderWindow& w = s.collider_frames[m.attach_collider[k]];
+    const Vec3 p = attachment_point(m.attach_weight[k], m.attach_offset[k], collider_vertex(c, ci, w, b, v[0]),
+                                    collider_vertex(c, ci, w, b, v[1]), collider_vertex(c, ci, w, b, v[2]));
     const Index i = m.attach_particle[k];
     out.v[i] = (p - in.x[i]) / h;
     out.x[i] = p;

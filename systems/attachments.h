@@ -6,7 +6,8 @@
 namespace clothsim {
 
 // Runs after the integrator, before the collide stage, so that collisions and the strain limit see the attached
-// particles (pins, infinite mass) where the collider puts them. h: the step from `in` to `out`.
-void apply_attachments(const Model& model, const State& in, State& out, Real h);
+// particles (pins, infinite mass) where the collider puts them. h: the step from `in` to `out`; s holds the
+// animated colliders' frames (CollisionScratch::collider_frames).
+void apply_attachments(const Model& model, const CollisionScratch& s, const State& in, State& out, Real h);
 
 }  // namespace clothsim

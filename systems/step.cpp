@@ -32,7 +32,7 @@ StepResult step(const Model& model, const State& in, State& out, Workspace& ws, 
       result = integrate_implicit(model, in, out, ws, h);
       break;
   }
-  apply_attachments(model, in, out, h);
+  apply_attachments(model, ws.collision, in, out, h);
   if (model.stitch_count > 0) apply_stitch_limit(model, out, h, in.time + h);
   // Collisions end the step (Bridson et al. 2002 §7): the strain limit's projections move particles without
   // looking at contacts, so run after collisions they could drag cloth back into a body or another layer.

@@ -105,7 +105,7 @@ int cmd_run(int argc, char** argv) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
 
   sim::LoadedScene loaded = sim::load_scene(args.positional[0]);
-  sim::Simulation simulation(std::move(loaded.built));
+  sim::Simulation simulation(std::move(loaded.built), sim::ColliderTrack(loaded.desc));
   const Model& model = simulation.model();
   const FrameRange frames = args.has("--frames") ? parse_frames(args.get("--frames"), model)
                                                  : FrameRange{model.start_frame, model.end_frame};

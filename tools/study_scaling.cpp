@@ -89,8 +89,8 @@ struct RunResult {
 
 // `frames` frames through the run's frame loop; the clock covers the frames (steps and the divergence guard),
 // not the hashing.
-RunResult run_frames(const BuiltScene& built, int frames) {
-  sim::Simulation simulation(built);
+RunResult run_frames(const BuiltScene& built, const SceneDesc& desc, int frames) {
+  sim::Simulation simulation(built, sim::ColliderTrack(desc));
   simulation.advance_frame();  // the start frame: the initial state, no step
   RunResult r;
   for (int f = 0; f < frames; ++f) {
@@ -162,7 +162,7 @@ int study_scaling(int argc, char** argv) {
     std::vector<double> times;
     RunResult r;
     for (int k = 0; k < repeat; ++k) {
-      r = run_frames(built, frames);
+      r = run_frames(built, loaded.desc, frames);
       if (r.diverged) {
         std::fprintf(stderr, "clothsim study scaling: the scene diverged at %d threads\n", t);
         return exit_diverged;

@@ -10,15 +10,16 @@ void place_colliders(const Model& m, Real time, Real h, CollisionScratch& s) {
   if (!c.animated) return;
   // The step's own start time: with timestep="auto" the steps of a frame differ in length, so a step count
   // times h would place the body at the wrong time.
-  auto at = [&](const ColliderInfo& ci, Real t, std::vector<Vec3>& dst) {
+  auto at = [&](const ColliderInfo& ci, const ColliderWindow& w, Real t, std::vector<Vec3>& dst) {
     const FrameBlend b = frame_blend(ci, m.start_frame, m.fps, t);
     parallel_over(ci.vertex_end - ci.vertex_begin, particle_grain,
-                  [&](Index k) { dst[ci.vertex_begin + k] = collider_vertex(c, ci, b, ci.vertex_begin + k); });
+                  [&](Index k) { dst[ci.vertex_begin + k] = collider_vertex(c, ci, w, b, ci.vertex_begin + k); });
   };
-  for (const ColliderInfo& ci : c.colliders) {
+  for (std::size_t k = 0; k < c.colliders.size(); ++k) {
+    const ColliderInfo& ci = c.colliders[k];
     if (ci.shape != ColliderShape::sequence) continue;
-    at(ci, time, s.collider_x0);
-    at(ci, time + h, s.collider_x1);
+    at(ci, s.collider_frames[k], time, s.collider_x0);
+    at(ci, s.collider_frames[k], time + h, s.collider_x1);
   }
 }
 

@@ -7,7 +7,8 @@
 namespace clothsim {
 
 // Collider mesh vertices at the start and end of the step that begins at `time` (s since the start frame) and
-// lasts h (animated colliders interpolated linearly between their frames; static ones stay).
+// lasts h (animated colliders interpolated linearly between their frames, read from s.collider_frames, which
+// must hold them: sim/collider_track.h; static ones stay).
 void place_colliders(const Model& model, Real time, Real h, CollisionScratch& s);
 
 // Spheres and planes against every cloth particle: the collider response (Bridson, Fedkiw & Anderson 2002 §7.2)

@@ -4,13 +4,12 @@
 
 #include <fstream>
 
-#include "tests/support/cli_harness.h"
-#include "tests/support/collision_scene.h"
 #include "core/build_collision.h"
 #include "io/collider_reader.h"
 #include "io/scene_xml.h"
-#include "io/collider_reader.h"
 #include "systems/collision/collide.h"
+#include "tests/support/cli_harness.h"
+#include "tests/support/collision_scene.h"
 
 using namespace clothsim;
 using namespace clothsim::test;
@@ -52,15 +51,19 @@ TEST_CASE("an unpadded, gzip-compressed sequence (shell#.obj.gz) reads the same 
   auto scene = [&](const std::string& pattern) {
     write_text(dir / "s.xml", "<scene>\n<simulation fps=\"24\" startFrame=\"9\" endFrame=\"11\"/>\n"
                               "<static name=\"body\" sequence=\"" + pattern + "\"/>\n<cloth name=\"c\" grid=\"3 3\"/>\n</scene>\n");
-    return io::read_colliders(io::read_scene((dir / "s.xml").string()));
+    return io::read_scene((dir / "s.xml").string());
   };
-  const auto gz = scene("shell#.obj.gz"), plain = scene("plain#.obj");
-  REQUIRE(gz[0].frames.size() == 3);
-  CHECK(gz[0].first_frame == 9);
-  for (int k = 0; k < 3; ++k) {
-    CHECK(gz[0].frames[k].positions == plain[0].frames[k].positions);
-    CHECK(gz[0].frames[k].tri_index == plain[0].frames[k].tri_index);
-    CHECK(gz[0].frames[k].positions[0].y() == 9 + k);
+  const SceneDesc gz = scene("shell#.obj.gz"), plain = scene("plain#.obj");
+  const auto meshes = io::read_colliders(gz);
+  REQUIRE(meshes[0].mesh);
+  CHECK(meshes[0].first_frame == 9);
+  CHECK(meshes[0].frame_count == 3);
+  CHECK(meshes[0].mesh->positions == io::read_collider_frame(plain, 0, 9).positions);
+  for (int f = 9; f <= 11; ++f) {
+    const MeshData a = io::read_collider_frame(gz, 0, f), b = io::read_collider_frame(plain, 0, f);
+    CHECK(a.positions == b.positions);
+    CHECK(a.tri_index == b.tri_index);
+    CHECK(a.positions[0].y() == f);
   }
 }
 
@@ -138,6 +141,7 @@ TEST_CASE("animated collider: frames are interpolated linearly per step, velocit
   const Model& m = sc.built.model;
   Workspace ws = make_workspace(m);
   // Step 5 of a frame of steps_per_frame steps starts at 5/steps_per_frame of the way to frame 2.
+  sim::ColliderTrack(sc.desc).prepare(m, 2, ws.collision);
   place_colliders(m, 5 * m.dt, m.dt, ws.collision);
   const Real expected0 = 0.24 * 5 / m.steps_per_frame, expected1 = 0.24 * 6 / m.steps_per_frame;
   CHECK(ws.collision.collider_x0[0].y() == doctest::Approx(expected0));
@@ -161,9 +165,11 @@ TEST_CASE("the real animated bodies (shared data, skipped without it): Kick and 
                               "<static name=\"body\" sequence=\"" +
                                   (data / "colliders" / "animated" / name / "shell#.obj.gz").string() +
                                   "\"/>\n<cloth name=\"c\" grid=\"3 3\"/>\n</scene>\n");
-    const auto meshes = io::read_colliders(io::read_scene((dir / "s.xml").string()));
-    REQUIRE(meshes[0].frames.size() == 2);
-    const MeshData &a = meshes[0].frames[0], &b = meshes[0].frames[1];
+    const SceneDesc desc = io::read_scene((dir / "s.xml").string());
+    const auto meshes = io::read_colliders(desc);
+    REQUIRE(meshes[0].frame_count == 2);
+    const MeshData a = io::read_collider_frame(desc, 0, 70), b = io::read_collider_frame(desc, 0, 71);
+    CHECK(a.positions == meshes[0].mesh->positions);
     CHECK(a.vertex_count() == 12811);
     CHECK(a.triangle_count() == 25472);
     CHECK(a.tri_index == b.tri_index);

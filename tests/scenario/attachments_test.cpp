@@ -6,10 +6,10 @@
 
 #include <cstring>
 
-#include "tests/support/collision_scene.h"
-#include "systems/step.h"
 #include "core/attachments.h"
 #include "core/error.h"
+#include "systems/step.h"
+#include "tests/support/collision_scene.h"
 #include "tests/support/png_fixtures.h"
 
 using namespace clothsim;
@@ -111,8 +111,10 @@ void check_follows(const std::string& integrator) {
   State state = sc.built.state, next = state;
   const std::vector<Vec3> x0 = state.x;
   Workspace ws = make_workspace(m);
+  const sim::ColliderTrack track(sc.desc);
   Real worst = 0, worst_velocity = 0;
   for (int f = 2; f <= frames; ++f) {
+    track.prepare(m, f, ws.collision);
     for (int k = 0; k < m.steps_per_frame; ++k) {
       step(m, state, next, ws, m.dt);
       for (Index i : m.attach_particle) {
@@ -170,7 +172,7 @@ TEST_CASE("attachments: the same bytes at 1 and 2 threads") {
   std::vector<State> end;
   for (int threads : {1, 2}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    sim::Simulation simulation(sc.built);
+    sim::Simulation simulation(sc);
     while (simulation.next_frame() <= frames) REQUIRE_FALSE(simulation.advance_frame().diverged);
     end.push_back(simulation.state());
   }

@@ -9,9 +9,9 @@
 #include <string>
 #include <type_traits>
 
-#include "tests/support/cli_harness.h"
 #include "sim/load_scene.h"
 #include "sim/simulation.h"
+#include "tests/support/cli_harness.h"
 
 namespace clothsim::test {
 
@@ -62,7 +62,7 @@ inline std::string kick_scene(const std::filesystem::path& sequence, int first, 
 // frame's figures (contacts, zones, steps). A diverged frame fails the test.
 template <class Check>
 void run_frames(const sim::LoadedScene& sc, Check&& check) {
-  sim::Simulation simulation(sc.built);
+  sim::Simulation simulation(sc);
   while (simulation.next_frame() <= simulation.model().end_frame) {
     const sim::FrameReport r = simulation.advance_frame();
     INFO(r.divergence);
