@@ -62,7 +62,7 @@ int main() {
   measure("step_rk4", [&] { step(rk4.model, rk4.state, scratch_rk4, ws_rk4, rk4.model.dt); });
   measure("step_implicit", [&] { step(imp.model, imp.state, scratch_imp, ws_imp, imp.model.dt); });
   measure("normals", [&] { eval_normals(m, sym.state.x, ws.normal); });
-  measure("obj_frame", [&] { sink += io::format_frame(m, m.cloths[0], sym.state.x, ws.normal, 1).size(); });
+  measure("obj_frame", [&] { sink += io::format_frame(m, m.cloths[0], "sheet", sym.state.x, ws.normal, 1).size(); });
   std::printf("gate workload done (%zu bytes of OBJ)\n", sink);
   return 0;
 }

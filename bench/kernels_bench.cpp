@@ -124,7 +124,7 @@ void BM_obj_frame(benchmark::State& st) {
   eval_normals(m, fx.warm.x, fx.ws.normal);
   std::size_t size = 0;
   for (auto _ : st) {
-    const std::string text = io::format_frame(m, m.cloths[0], fx.warm.x, fx.ws.normal, 1);
+    const std::string text = io::format_frame(m, m.cloths[0], "sheet", fx.warm.x, fx.ws.normal, 1);
     size = text.size();
     benchmark::DoNotOptimize(text.data());
   }

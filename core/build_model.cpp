@@ -137,8 +137,6 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
     const Index base = m.particle_count;
     ClothInfo info;
     info.name = cd.name;
-    info.save_dir = cd.save_dir;
-    info.save_name = cd.save_name;
     info.texture = cd.texture;
     info.friction = cd.friction;
     info.restitution = cd.restitution;

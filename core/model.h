@@ -26,11 +26,10 @@ enum class SpringLayout {
   blocked,  // each spring once, scattered into f by chunks; chunks of one pass touch disjoint particles
 };
 
-// What output and reporting need of one cloth; kept out of the arrays the kernels stream.
+// What output, reporting and the collision response need of one cloth; kept out of the arrays the kernels stream.
+// Where its frames go (saveDir, saveName) is the scene's (ClothDesc), not the Model's.
 struct ClothInfo {
   std::string name;
-  std::string save_dir;      // absolute or relative to the working directory
-  std::string save_name;
   std::string texture;       // colour texture, resolved against the scene folder ("" for none)
   Index particle_begin = 0, particle_end = 0;
   Index tri_begin = 0, tri_end = 0;

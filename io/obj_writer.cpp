@@ -47,15 +47,15 @@ constexpr int position_digits = 9;
 constexpr int uv_digits = 9;
 constexpr int normal_digits = 7;
 
-void emit_frame(const Model& model, const ClothInfo& cloth, std::span<const Vec3> x, std::span<const Vec3> normal,
-                int frame, const PieceWriter& sink) {
+void emit_frame(const Model& model, const ClothInfo& cloth, const std::string& save_name, std::span<const Vec3> x,
+                std::span<const Vec3> normal, int frame, const PieceWriter& sink) {
   ObjText out(sink);
   out.raw("# clothsim frame ");
   out.integer(frame);
   out.raw("\n");
   // A textured cloth references its material (io/mtl_writer), written once beside the frames.
   const bool textured = !cloth.texture.empty();
-  if (textured) out.raw("mtllib " + cloth.save_name + ".mtl\n");
+  if (textured) out.raw("mtllib " + save_name + ".mtl\n");
   out.raw("o ");
   out.raw(cloth.name.empty() ? std::string_view("cloth") : std::string_view(cloth.name));
   out.raw("\n");
@@ -76,7 +76,7 @@ void emit_frame(const Model& model, const ClothInfo& cloth, std::span<const Vec3
     out.end_line();
   }
   const bool uvs = !cloth.tri_uv.empty() || cloth.uv_per_vertex;
-  if (textured) out.raw("usemtl " + cloth.save_name + "\n");
+  if (textured) out.raw("usemtl " + save_name + "\n");
   for (Index t = cloth.tri_begin; t < cloth.tri_end; ++t) {
     out.tag("f");
     for (int k = 0; k < 3; ++k) {
@@ -102,18 +102,19 @@ std::string frame_path(const std::string& dir, const std::string& save_name, int
   return (dir.empty() ? std::string(".") : dir) + "/" + save_name + "." + num + ".obj";
 }
 
-std::string format_frame(const Model& model, const ClothInfo& cloth, std::span<const Vec3> x,
-                         std::span<const Vec3> normal, int frame) {
+std::string format_frame(const Model& model, const ClothInfo& cloth, const std::string& save_name,
+                         std::span<const Vec3> x, std::span<const Vec3> normal, int frame) {
   std::string text;
   text.reserve(std::size_t(cloth.particle_end - cloth.particle_begin) * 90 +
                std::size_t(cloth.tri_end - cloth.tri_begin) * 40 + 256);
-  emit_frame(model, cloth, x, normal, frame, [&](std::string_view piece) { text += piece; });
+  emit_frame(model, cloth, save_name, x, normal, frame, [&](std::string_view piece) { text += piece; });
   return text;
 }
 
-void write_frame(const std::string& path, const Model& model, const ClothInfo& cloth, std::span<const Vec3> x,
-                 std::span<const Vec3> normal, int frame) {
-  write_file_atomic(path, [&](const PieceWriter& write) { emit_frame(model, cloth, x, normal, frame, write); });
+void write_frame(const std::string& path, const Model& model, const ClothInfo& cloth, const std::string& save_name,
+                 std::span<const Vec3> x, std::span<const Vec3> normal, int frame) {
+  write_file_atomic(path,
+                    [&](const PieceWriter& write) { emit_frame(model, cloth, save_name, x, normal, frame, write); });
 }
 
 }  // namespace clothsim::io

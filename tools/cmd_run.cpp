@@ -111,9 +111,10 @@ int cmd_run(int argc, char** argv) {
                                                  : FrameRange{model.start_frame, model.end_frame};
 
   const std::string out = args.get("--out"), stats_path = args.get("--stats");
-  const std::vector<std::string> dirs = prepare_run_outputs(args.positional[0], model, args.has("--out") ? &out : nullptr,
+  const std::vector<std::string> dirs = prepare_run_outputs(loaded.desc, args.has("--out") ? &out : nullptr,
                                                             args.has("--stats") ? &stats_path : nullptr);
-  for (std::size_t c = 0; c < model.cloths.size(); ++c) io::write_material(dirs[c], model.cloths[c]);
+  for (std::size_t c = 0; c < model.cloths.size(); ++c)
+    io::write_material(dirs[c], model.cloths[c], loaded.desc.cloths[c].save_name);
 
   RunCheckpoints checkpoints(loaded.desc, loaded.inputs_fingerprint, model, simulation.state(), dirs.front(),
                              args.has("--checkpoint-every")
@@ -152,7 +153,8 @@ int cmd_run(int argc, char** argv) {
     eval_normals(model, state.x, ws.normal);
     for (std::size_t c = 0; c < model.cloths.size(); ++c) {
       const ClothInfo& cloth = model.cloths[c];
-      io::write_frame(io::frame_path(dirs[c], cloth.save_name, frame), model, cloth, state.x, ws.normal, frame);
+      const std::string& save_name = loaded.desc.cloths[c].save_name;
+      io::write_frame(io::frame_path(dirs[c], save_name, frame), model, cloth, save_name, state.x, ws.normal, frame);
     }
     stats.write_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
     ++stats.frames_written;
