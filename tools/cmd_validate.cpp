@@ -38,8 +38,9 @@ int cmd_validate(int argc, char** argv) {
   const sim::LoadedScene s = sim::load_scene(args.positional[0]);
   const Model& m = s.built.model;
   std::printf("%s: ok\n", args.positional[0].c_str());
-  std::printf("  cloths %zu, particles %d, springs %d, triangles %d, pinned %zu, stitches %d\n", m.cloths.size(),
-              m.particle_count, m.spring_count, m.tri_count, m.pinned.size(), m.stitch_count);
+  std::printf("  cloths %zu, particles %d, springs %d, triangles %d, pinned %zu (attached %zu), stitches %d\n",
+              m.cloths.size(), m.particle_count, m.spring_count, m.tri_count, m.pinned.size(),
+              m.attach_particle.size(), m.stitch_count);
   std::printf("  frames %d..%d at %g fps, %d steps per frame of %.6g s\n", m.start_frame, m.end_frame, m.fps,
               m.steps_per_frame, m.dt);
   // Whether each parameter stayed one scalar or became an array because a map was given (docs/maps.md).

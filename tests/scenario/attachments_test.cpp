@@ -225,3 +225,13 @@ TEST_CASE("attachments: bad <attach> inputs name the scene file and line") {
   CHECK(r.output.find("scene.xml:6: cloth 'skirt' <attach collider=\"bodi\">: no collider has that name") !=
         std::string::npos);
 }
+
+TEST_CASE("attachments: validate counts the attached vertices among the pinned") {
+  const auto dir = scratch_dir("attach_validate");
+  const auto path = write_skirt_scene(dir, "symplectic", top_ring());
+  const test::CliResult r = test::run_cli("validate " + path.string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  // The top ring: 12 vertices attached, and an attached vertex is a pin whose position the body prescribes.
+  CHECK(r.output.find("pinned 12 (attached 12)") != std::string::npos);
+}
