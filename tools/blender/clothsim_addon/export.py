@@ -140,7 +140,7 @@ def export_scene(scene):
     for obj, name in cloth_objects(scene):
         obj_path = os.path.join(work_dir, name + ".obj")
         # The base mesh, before modifiers: the Mesh Cache with the result goes first in the stack.
-        mesh_files.write_text_atomic(obj_path, mesh_obj_text(obj.data, obj.matrix_world, name))
+        mesh_files.write_text_atomic(obj_path, mesh_obj_text(obj.data, obj.matrix_world, name, with_stitches=True))
         # Old frames, and temporary files of a run killed mid-write (clothsim writes NAME.obj.tmpPID, renames).
         prefix = os.path.join(glob.escape(frames_dir), glob.escape(name))
         for old in glob.glob(prefix + ".[0-9][0-9][0-9][0-9].obj") + glob.glob(prefix + ".[0-9][0-9][0-9][0-9].obj.tmp*"):

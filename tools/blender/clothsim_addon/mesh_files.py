@@ -7,9 +7,11 @@ import struct
 import numpy as np
 
 
-def format_obj(name, positions, tri_vertices, tri_uv_index=None, uvs=None):
+def format_obj(name, positions, tri_vertices, tri_uv_index=None, uvs=None, stitches=()):
     """OBJ text: positions (n, 3) float, tri_vertices (t, 3) int from 0; optional uvs (m, 2) and
-    tri_uv_index (t, 3) into them. Vertex order is kept, so clothsim's particle i is Blender's vertex i."""
+    tri_uv_index (t, 3) into them. Vertex order is kept, so clothsim's particle i is Blender's vertex i.
+    stitches: (i, j) vertex pairs sewn together, written as Codim-IPC stitch records `stitch i j j 0` (vertex i
+    belongs at vertex j; docs/garments.md)."""
     lines = [f"# clothsim add-on export\no {name}"]
     # 9 significant digits read back to the same float32, which is what Blender stores.
     lines += [f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in np.asarray(positions, dtype=np.float64)]
@@ -20,6 +22,7 @@ def format_obj(name, positions, tri_vertices, tri_uv_index=None, uvs=None):
         lines += [f"f {a}/{ta} {b}/{tb} {c}/{tc}" for (a, b, c), (ta, tb, tc) in zip(t.tolist(), tu.tolist())]
     else:
         lines += [f"f {a} {b} {c}" for a, b, c in t.tolist()]
+    lines += [f"stitch {i} {j} {j} 0" for i, j in stitches]
     return "\n".join(lines) + "\n"
 
 

@@ -318,6 +318,24 @@ def test_scene_format(cloth):
     check(bpy.ops.clothsim.simulate() == {"FINISHED"}, "Simulate the implicit, strain-limited, gusty sheet")
 
 
+def test_stitches(cloth):
+    """A loose edge (Blender's sewing edge) reaches clothsim as a stitch record that it reads and counts."""
+    import bmesh
+    import subprocess
+    bm = bmesh.new()
+    bm.from_mesh(cloth.data)
+    bm.verts.ensure_lookup_table()
+    bm.edges.new((bm.verts[0], bm.verts[11]))  # the two ends of the grid's first row: not yet joined
+    bm.to_mesh(cloth.data)
+    bm.free()
+    check(bpy.ops.clothsim.write_scene() == {"FINISHED"}, "Write Scene with a sewing edge")
+    cache = os.path.join(SCRATCH, "cache")
+    text = open(os.path.join(cache, "Sheet.obj")).read()
+    check(re.findall(r"^stitch .*$", text, re.M) == ["stitch 0 11 11 0"], "the loose edge is one stitch record")
+    r = subprocess.run([BINARY, "validate", os.path.join(cache, "scene.xml")], capture_output=True, text=True)
+    check(r.returncode == 0 and "stitches 1" in r.stdout, f"clothsim validate counts the stitch ({r.stdout!r})")
+
+
 def main():
     shutil.rmtree(SCRATCH, ignore_errors=True)
     os.makedirs(SCRATCH)
@@ -327,6 +345,7 @@ def main():
     test_cancel(cloth)
     test_colliders(cloth, _sphere)
     test_scene_format(cloth)
+    test_stitches(cloth)
     print(f"{len(FAILURES)} failure(s)")
     sys.exit(1 if FAILURES else 0)
 
