@@ -129,13 +129,7 @@ TEST_CASE("collider elements: bad attributes are reported with the line and what
 
 TEST_CASE("animated collider: frames are interpolated linearly per step, velocities from the interpolation") {
   const auto dir = scratch_dir("collider_motion");
-  // A triangle rising 0.24 m per frame at 24 fps: 5.76 m/s.
-  for (int f = 1; f <= 3; ++f) {
-    char name[32];
-    std::snprintf(name, sizeof name, "b.%04d.obj", f);
-    const std::string y = std::to_string(0.24 * (f - 1));
-    write_text(dir / name, "v 0 " + y + " 0\nv 1 " + y + " 0\nv 0 " + y + " 1\nf 1 3 2\n");
-  }
+  write_rising_triangle(dir, 3, 0.24, 0);  // 0.24 m per frame at 24 fps: 5.76 m/s
   write_text(dir / "s.xml", scene_with("<static name=\"body\" sequence=\"b.####.obj\"/>"));
   auto sc = load_collision_scene(dir / "s.xml");
   const Model& m = sc.built.model;

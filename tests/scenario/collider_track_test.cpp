@@ -2,8 +2,6 @@
 // holding at each frame what that frame's steps blend, read from the files as the run reaches them.
 #include <doctest/doctest.h>
 
-#include <cstdio>
-#include <string>
 
 #include "tests/support/collision_scene.h"
 
@@ -13,12 +11,7 @@ using namespace clothsim::test;
 TEST_CASE("a 12-frame collider sequence streams through a 4-frame window and is placed at each frame's position") {
   const auto dir = scratch_dir("collider_track");
   // A triangle 2 m from the cloth, rising 0.1 m per frame and shifted 1 m in x by the scene's transform.
-  for (int f = 1; f <= 12; ++f) {
-    char name[32];
-    std::snprintf(name, sizeof name, "b.%04d.obj", f);
-    const std::string y = std::to_string(0.1 * (f - 1));
-    write_text(dir / name, "v 0 " + y + " 2\nv 1 " + y + " 2\nv 0 " + y + " 3\nf 1 3 2\n");
-  }
+  write_rising_triangle(dir, 12, 0.1, 2);
   write_text(dir / "s.xml", R"(<scene>
   <simulation timestep="0.005" fps="24" startFrame="1" endFrame="12"/>
   <static name="body" sequence="b.####.obj" translate="1 0 0"/>

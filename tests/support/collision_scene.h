@@ -74,6 +74,17 @@ void run_frames(const sim::LoadedScene& sc, Check&& check) {
   }
 }
 
+// An animated collider sequence b.0001.obj .. b.NNNN.obj in dir: one triangle (0, y, z), (1, y, z), (0, y, z + 1)
+// at y = rise x (frame - 1).
+inline void write_rising_triangle(const std::filesystem::path& dir, int frames, Real rise, Real z) {
+  for (int f = 1; f <= frames; ++f) {
+    char name[32];
+    std::snprintf(name, sizeof name, "b.%04d.obj", f);
+    const std::string y = std::to_string(rise * (f - 1)), zs = std::to_string(z), z1 = std::to_string(z + 1);
+    write_text(dir / name, "v 0 " + y + " " + zs + "\nv 1 " + y + " " + zs + "\nv 0 " + y + " " + z1 + "\nf 1 3 2\n");
+  }
+}
+
 // A UV sphere (closed, outward counter-clockwise normals) as OBJ text, centred at c.
 inline std::string sphere_obj(const Vec3& c, Real r, int rings = 12, int segments = 24) {
   std::string s;
