@@ -2,7 +2,6 @@
 // holding at each frame what that frame's steps blend, read from the files as the run reaches them.
 #include <doctest/doctest.h>
 
-
 #include "tests/support/collision_scene.h"
 
 using namespace clothsim;
