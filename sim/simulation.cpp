@@ -18,12 +18,14 @@ Simulation::Simulation(BuiltScene built, ColliderTrack track)
       ws_(make_workspace(model_)),
       track_(std::move(track)),
       stepper_(model_, state_),
-      next_frame_(model_.start_frame) {}
+      next_frame_(model_.start_frame),
+      last_strain_(max_spring_strain(model_, state_.x)) {}
 
 void Simulation::resume(State state, int frame) {
   state_ = std::move(state);
   scratch_ = state_;
   next_frame_ = frame + 1;
+  last_strain_ = max_spring_strain(model_, state_.x);
 }
 
 std::string describe_failure(const Model& model, const StepFailure& f, int frame) {
@@ -54,11 +56,16 @@ FrameReport Simulation::advance_frame() {
   // The divergence guard (docs/stability.md): every frame is checked before anyone writes it.
   const bool finite = state_is_finite(state_);
   const Real energy_rise = finite ? stepper_.energy_rise(model_, state_) : 0;
-  if (!stepped || !finite || !(energy_rise <= stepper_.energy_bound())) {
+  const Real strain = finite ? max_spring_strain(model_, state_.x) : 0;
+  const bool torn = strain - last_strain_ > frame_strain_jump;
+  if (!stepped || !finite || !(energy_rise <= stepper_.energy_bound()) || torn) {
     char reason[200];
     if (!stepped)
       std::snprintf(reason, sizeof reason, "a step below minTimestep %.3g s was rejected: %s", model_.min_dt,
                     verdict_name(stepper_.last_rejection()));
+    else if (finite && torn)
+      std::snprintf(reason, sizeof reason, "the largest spring strain rose from %.3g to %.3g within one frame, "
+                    "past the %.2g no cloth stretches in a frame", last_strain_, strain, frame_strain_jump);
     else if (finite)
       std::snprintf(reason, sizeof reason, "the mechanical energy rose by %.3g J, past the bound %.3g J",
                     energy_rise, stepper_.energy_bound());
@@ -75,7 +82,7 @@ FrameReport Simulation::advance_frame() {
     r.divergence = text;
     return r;
   }
-  r.max_strain = max_spring_strain(model_, state_.x);
+  r.max_strain = last_strain_ = strain;
   r.kinetic_energy = kinetic_energy(model_, state_.v);
   r.solves = ws_.solve_log;
   r.contacts = ws_.collision.contacts_found;

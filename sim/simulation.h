@@ -29,6 +29,10 @@ struct FrameReport {
 
 class Simulation {
  public:
+  // A frame whose largest spring strain rose by more than this (100% of a rest length) has blown up even where
+  // the energy bound has not yet seen it (an explicit step far past its limit); it is reported as diverged.
+  static constexpr Real frame_strain_jump = 1.0;
+
   // The scene's initial state is the divergence guard's reference (its energy and rest positions). A scene with
   // animated colliders needs its track (made from its SceneDesc) to stream their frames.
   explicit Simulation(BuiltScene built, ColliderTrack track = {});
@@ -60,6 +64,7 @@ class Simulation {
   ColliderTrack track_;
   FrameStepper stepper_;
   int next_frame_;
+  Real last_strain_ = 0;  // largest spring strain of the last frame computed
   std::int64_t failed_steps_ = 0;
   std::string first_failure_;
 };
