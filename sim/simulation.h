@@ -29,9 +29,6 @@ struct FrameReport {
 
 class Simulation {
  public:
-  // A frame whose largest spring strain rose by more than this (100% of a rest length) has blown up even where
-  // the energy bound has not yet seen it (an explicit step far past its limit); it is reported as diverged.
-  static constexpr Real frame_strain_jump = 1.0;
 
   // The scene's initial state is the divergence guard's reference (its energy and rest positions). A scene with
   // animated colliders needs its track (made from its SceneDesc) to stream their frames.

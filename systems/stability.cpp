@@ -10,6 +10,7 @@
 #include "systems/parallel.h"
 #include "systems/random_force.h"
 #include "systems/reduce.h"
+#include "systems/spring_forces.h"
 #include "systems/diagnostics.h"
 #include "systems/step.h"
 
@@ -249,12 +250,19 @@ Real energy_rise_bound(const Model& m, std::span<const Vec3> x_start) {
 
 bool run_diverges(const Model& m, const State& start, Real h, std::int64_t steps) {
   const Real e0 = mechanical_energy(m, start, start.x), bound = energy_rise_bound(m, start.x);
+  const std::int64_t per_frame = std::max<std::int64_t>(1, std::llround(1 / (m.fps * h)));
+  Real frame_strain = max_spring_strain(m, start.x);
   State s = start, scratch = start;
   Workspace ws = make_workspace(m);
   for (std::int64_t k = 0; k < steps; ++k) {
     step(m, s, scratch, ws, h);
     std::swap(s, scratch);
     if (!state_is_finite(s) || !(mechanical_energy(m, s, start.x) - e0 <= bound)) return true;
+    if ((k + 1) % per_frame == 0 || k + 1 == steps) {
+      const Real strain = max_spring_strain(m, s.x);
+      if (strain - frame_strain > frame_strain_jump) return true;
+      frame_strain = strain;
+    }
   }
   return false;
 }

@@ -64,9 +64,14 @@ Real mechanical_energy(const Model& model, const State& state, std::span<const V
 // (10% strain in every spring) keeps the bound positive in a scene with no external force. docs/stability.md.
 Real energy_rise_bound(const Model& model, std::span<const Vec3> x_start);
 
+// A frame whose largest spring strain rose by more than this (100% of a rest length) has blown up even where the
+// energy bound has not yet seen it (an explicit step far past its limit): the run reports it as diverged.
+inline constexpr Real frame_strain_jump = 1.0;
+
 // Runs `steps` steps of h from start with the model's integrator; true when it diverged as `clothsim run` judges
-// it: non-finite positions or velocities, or the mechanical energy risen past energy_rise_bound. For the
-// stability studies and tests (allocates its own workspace).
+// it: non-finite positions or velocities, the mechanical energy risen past energy_rise_bound, or the largest
+// spring strain risen by more than frame_strain_jump within a frame (1 / model.fps). For the stability studies
+// and tests (allocates its own workspace).
 bool run_diverges(const Model& model, const State& start, Real h, std::int64_t steps);
 
 }  // namespace clothsim
