@@ -27,14 +27,13 @@ void ColliderTrack::prepare(const Model& m, int frame, CollisionScratch& s) cons
     const std::size_t nv = std::size_t(ci.vertex_end - ci.vertex_begin);
     // Keep the frames the new window shares with the old (a run goes forward: they sit at its end), read the rest.
     const int count = std::min(collider_window_frames, ci.frame_count - lo);
-    std::vector<bool> have(std::size_t(count), false);
+    int kept = 0;  // the new window's first frames, already held
     if (w.count > 0 && lo >= w.first && lo < w.first + w.count) {
-      const int shift = lo - w.first, kept = w.first + w.count - lo;
+      const int shift = lo - w.first;
+      kept = std::min(w.first + w.count - lo, count);
       std::copy(w.x.begin() + std::ptrdiff_t(shift * nv), w.x.begin() + std::ptrdiff_t((shift + kept) * nv), w.x.begin());
-      std::fill(have.begin(), have.begin() + std::min(kept, count), true);
     }
-    for (int j = 0; j < count; ++j) {
-      if (have[std::size_t(j)]) continue;
+    for (int j = kept; j < count; ++j) {
       const MeshData mesh = io::read_collider_frame(scene_, k, ci.first_frame + lo + j);
       if (std::size_t(mesh.vertex_count()) != nv)
         throw Error(mesh.source, "collider '" + ci.name + "': frame has " + std::to_string(mesh.vertex_count()) +

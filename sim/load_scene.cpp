@@ -8,9 +8,9 @@
 #include "io/obj_reader.h"
 #include "io/rest_shape.h"
 #include "io/scene_xml.h"
-#include "systems/auto_step.h"
 #include "io/text_file.h"
 #include "sim/cpu_clock.h"
+#include "systems/auto_step.h"
 
 namespace clothsim::sim {
 

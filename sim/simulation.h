@@ -29,7 +29,6 @@ struct FrameReport {
 
 class Simulation {
  public:
-
   // The scene's initial state is the divergence guard's reference (its energy and rest positions). A scene with
   // animated colliders needs its track (made from its SceneDesc) to stream their frames.
   explicit Simulation(BuiltScene built, ColliderTrack track = {});

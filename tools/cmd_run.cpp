@@ -121,9 +121,8 @@ int cmd_run(int argc, char** argv) {
                                  ? parse_int("--checkpoint-every", args.get("--checkpoint-every"), 0)
                                  : loaded.desc.simulation.checkpoint_every,
                              frames.first);
-  State resumed = simulation.state();
-  const int first_frame = checkpoints.start(args.has("--resume"), resumed, args.has("--quiet"));
-  if (first_frame > model.start_frame) simulation.resume(std::move(resumed), first_frame - 1);
+  RunCheckpoints::Start start = checkpoints.start(args.has("--resume"), args.has("--quiet"));
+  if (start.state) simulation.resume(std::move(*start.state), start.first_frame - 1);
 
   Workspace& ws = simulation.workspace();
   io::RunStats stats;

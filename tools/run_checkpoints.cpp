@@ -18,18 +18,15 @@ RunCheckpoints::RunCheckpoints(const SceneDesc& scene, std::uint64_t inputs, con
       fingerprint_(io::scene_fingerprint(inputs, model, initial.x)),
       particle_count_(model.particle_count) {}
 
-int RunCheckpoints::start(bool resume, State& state, bool quiet) {
-  int first = start_frame_;
+RunCheckpoints::Start RunCheckpoints::start(bool resume, bool quiet) {
+  Start at{start_frame_, std::nullopt};
   if (resume) {
     std::vector<std::string> warnings;
     auto c = io::find_latest_checkpoint(dir_, stem_, fingerprint_, particle_count_, first_output_, warnings);
     for (const std::string& w : warnings) std::fprintf(stderr, "clothsim: warning: %s\n", w.c_str());
     if (c) {
-      state.x = std::move(c->state.x);
-      state.v = std::move(c->state.v);
-      state.time = c->state.time;
-      state.step = c->state.step;
-      first = c->frame + 1;
+      at.state = std::move(c->state);
+      at.first_frame = c->frame + 1;
       first_output_ = c->first_output;  // the frames before this run's were written by the checkpoint's run
       if (!quiet) std::fprintf(stderr, "clothsim: resuming after frame %d from its checkpoint\n", c->frame);
     } else {
@@ -39,8 +36,8 @@ int RunCheckpoints::start(bool resume, State& state, bool quiet) {
   }
   // Newer checkpoints describe frames this run replaces; a run that neither checkpoints nor resumes leaves
   // them alone.
-  if (resume || every_ > 0) io::remove_checkpoints_after(dir_, stem_, first - 1);
-  return first;
+  if (resume || every_ > 0) io::remove_checkpoints_after(dir_, stem_, at.first_frame - 1);
+  return at;
 }
 
 void RunCheckpoints::frame_written(int frame, int last_frame, const State& state) {

@@ -2,6 +2,7 @@
 // Checkpointing and --resume for `clothsim run`, kept out of the run loop: the loop asks where to start and
 // reports each frame it wrote.
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "core/model.h"
@@ -16,10 +17,15 @@ class RunCheckpoints {
   RunCheckpoints(const SceneDesc& scene, std::uint64_t inputs, const Model& model, const State& initial,
                  std::string dir, int every, int first_output);
 
-  // With `resume`, loads the newest valid checkpoint into `state` (warning on stderr about each invalid newer
-  // one) and returns the first frame still to compute; otherwise, or when none is valid, model.start_frame.
-  // When resuming or checkpointing, checkpoints after the starting point are deleted: this run replaces them.
-  int start(bool resume, State& state, bool quiet);
+  // Where the run starts: with `resume`, the newest valid checkpoint (warning on stderr about each invalid newer
+  // one): its state and the first frame still to compute; otherwise, or when none is valid, no state and
+  // model.start_frame. When resuming or checkpointing, checkpoints after the starting point are deleted: this run
+  // replaces them.
+  struct Start {
+    int first_frame = 0;
+    std::optional<State> state;  // the checkpoint's state at first_frame - 1, when resuming from one
+  };
+  Start start(bool resume, bool quiet);
 
   // Called after `frame`'s output is written; writes a checkpoint every `every` frames and at `last_frame`.
   void frame_written(int frame, int last_frame, const State& state);
