@@ -53,7 +53,7 @@ void set_counters(benchmark::State& st, const Model& m) {
 
 void BM_HashRebuild(benchmark::State& st) {
   Sheet s = make_sheet(int(st.range(0)), BroadPhase::hash);
-  Workspace ws = make_workspace(s.built.model);
+  Workspace ws = make_workspace(s.built.model, s.built.options);
   build_broad_phase(s.built.model, s.in, s.out, ws.collision);  // sizes the entry arrays once
   for (auto _ : st) {
     build_spatial_hash(s.built.model.collision, ws.collision);
@@ -65,7 +65,7 @@ void BM_HashRebuild(benchmark::State& st) {
 
 void BM_BvhRefit(benchmark::State& st) {
   Sheet s = make_sheet(int(st.range(0)), BroadPhase::bvh);
-  Workspace ws = make_workspace(s.built.model);
+  Workspace ws = make_workspace(s.built.model, s.built.options);
   build_broad_phase(s.built.model, s.in, s.out, ws.collision);
   for (auto _ : st) {
     refit_bvh(s.built.model.collision, ws.collision);
@@ -77,7 +77,7 @@ void BM_BvhRefit(benchmark::State& st) {
 // Times the whole collide stage from s.in to s.out, restored before each call, after one warm-up call that
 // grows the hash once.
 void time_collide(benchmark::State& st, const Sheet& s) {
-  Workspace ws = make_workspace(s.built.model);
+  Workspace ws = make_workspace(s.built.model, s.built.options);
   State out = s.out;
   collide(s.built.model, s.in, out, ws, 1e-3);
   for (auto _ : st) {

@@ -40,17 +40,17 @@ int main() {
   // The implicit step at the peer's 1/48 s with its default, multigrid-preconditioned CG (to 1e-6).
   BuiltScene imp = bench::build_sheet(n, Integrator::implicit, 1.0 / 48);
   const Model& m = sym.model;
-  Workspace ws = make_workspace(m), ws_rk4 = make_workspace(rk4.model), ws_imp = make_workspace(imp.model);
+  Workspace ws = make_workspace(m, sym.options), ws_rk4 = make_workspace(rk4.model, rk4.options), ws_imp = make_workspace(imp.model, imp.options);
   State scratch = sym.state, scratch_rk4 = rk4.state, scratch_imp = imp.state;
   std::vector<Vec3> per_spring(m.spring_count);
   // Warm-up outside the windows: a few steps so the sheet is strained, and TBB's arena is started.
   for (int k = 0; k < 5; ++k) {
-    step(m, sym.state, scratch, ws, m.dt);
+    step(m, sym.options, sym.state, scratch, ws, sym.options.dt);
     std::swap(sym.state, scratch);
   }
   rk4.state = sym.state;
   for (int k = 0; k < 5; ++k) {  // the implicit sheet falls for 0.1 s: its springs stretch, CG has work
-    step(imp.model, imp.state, scratch_imp, ws_imp, imp.model.dt);
+    step(imp.model, imp.options, imp.state, scratch_imp, ws_imp, imp.options.dt);
     std::swap(imp.state, scratch_imp);
   }
 
@@ -58,9 +58,9 @@ int main() {
   measure("springs_gather", [&] { eval_springs_gather(m, sym.state.x, sym.state.v, ws.f); });
   measure("springs_blocked", [&] { eval_springs_blocked(m, sym.state.x, sym.state.v, ws.f); });
   measure("springs_two_phase", [&] { eval_springs_two_phase(m, sym.state.x, sym.state.v, ws.f, per_spring); });
-  measure("step_symplectic", [&] { step(m, sym.state, scratch, ws, m.dt); });
-  measure("step_rk4", [&] { step(rk4.model, rk4.state, scratch_rk4, ws_rk4, rk4.model.dt); });
-  measure("step_implicit", [&] { step(imp.model, imp.state, scratch_imp, ws_imp, imp.model.dt); });
+  measure("step_symplectic", [&] { step(m, sym.options, sym.state, scratch, ws, sym.options.dt); });
+  measure("step_rk4", [&] { step(rk4.model, rk4.options, rk4.state, scratch_rk4, ws_rk4, rk4.options.dt); });
+  measure("step_implicit", [&] { step(imp.model, imp.options, imp.state, scratch_imp, ws_imp, imp.options.dt); });
   measure("normals", [&] { eval_normals(m, sym.state.x, ws.normal); });
   measure("obj_frame", [&] { sink += io::format_frame(m, m.cloths[0], "sheet", sym.state.x, ws.normal, 1).size(); });
   std::printf("gate workload done (%zu bytes of OBJ)\n", sink);

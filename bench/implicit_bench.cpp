@@ -32,10 +32,10 @@ Sheet make_sheet(int n, Preconditioner preconditioner) {
   c.transform.rotate = Vec3(90, 0, 0);
   scene.cloths = {c};
   Sheet sh{build_model(scene, {make_cloth_grid(c)}), {}};
-  sh.ws = make_workspace(sh.s.model);
+  sh.ws = make_workspace(sh.s.model, sh.s.options);
   State scratch = sh.s.state;
   for (int k = 0; k < 25; ++k) {  // warm up: let it sag, so springs are stretched and CG has real work
-    step(sh.s.model, sh.s.state, scratch, sh.ws, 0.01);
+    step(sh.s.model, sh.s.options, sh.s.state, scratch, sh.ws, 0.01);
     std::swap(sh.s.state, scratch);
   }
   return sh;
@@ -47,7 +47,7 @@ void BM_implicit_step(benchmark::State& bs, ImplicitLayout layout, Preconditione
   long long cg = 0;
   for (auto _ : bs) {
     sh.ws.solve_log.clear();
-    integrate_implicit(sh.s.model, sh.s.state, out, sh.ws, 0.01, layout);
+    integrate_implicit(sh.s.model, sh.s.options.solver, sh.s.state, out, sh.ws, 0.01, layout);
     cg += sh.ws.solve_log.empty() ? 0 : sh.ws.solve_log.back().cg_iterations;
     benchmark::DoNotOptimize(out.v.data());
   }

@@ -34,12 +34,12 @@ Fixture& fixture(int n, Integrator integ) {
     slot = std::make_unique<Fixture>();
     slot->built = build_sheet(n, integ);
     build_particle_springs(slot->built.model);  // the gather and two_phase cases run on this blocked model too
-    slot->ws = make_workspace(slot->built.model);
+    slot->ws = make_workspace(slot->built.model, slot->built.options);
     State scratch = slot->built.state;
     // Warm-up: a few steps so the sheet is strained and moving, not at rest (rest springs are cheaper for none
     // of the kernels, but a moving state is the honest one).
     for (int k = 0; k < 5; ++k) {
-      step(slot->built.model, slot->built.state, scratch, slot->ws, slot->built.model.dt);
+      step(slot->built.model, slot->built.options, slot->built.state, scratch, slot->ws, slot->built.options.dt);
       std::swap(slot->built.state, scratch);
     }
     slot->warm = slot->built.state;
@@ -97,7 +97,7 @@ void BM_step(benchmark::State& st, Integrator integ, Schedule schedule) {
     a.v = fx.warm.v;
     st.ResumeTiming();
     for (int k = 0; k < batch; ++k) {
-      step(m, a, b, fx.ws, m.dt);
+      step(m, fx.built.options, a, b, fx.ws, fx.built.options.dt);
       std::swap(a, b);
     }
     benchmark::ClobberMemory();

@@ -49,7 +49,7 @@ PeerResult run_clothsim(double seconds, double dt, double stiffness, Integrator 
   desc.cloths[0].stiffness = stiffness;
   BuiltScene b = build_model(desc, {make_cloth_grid(desc.cloths[0])});
   const Model& m = b.model;
-  Workspace ws = make_workspace(m);
+  Workspace ws = make_workspace(m, b.options);
   State scratch = b.state;
   PeerResult r;
   r.dt = dt;
@@ -57,7 +57,7 @@ PeerResult run_clothsim(double seconds, double dt, double stiffness, Integrator 
   const auto t0 = std::chrono::steady_clock::now();
   const double c0 = process_cpu_seconds();
   for (long k = 0; k < r.steps; ++k) {
-    step(m, b.state, scratch, ws, dt);
+    step(m, b.options, b.state, scratch, ws, dt);
     std::swap(b.state, scratch);
     if (k % 10 == 9) r.max_strain = std::max(r.max_strain, max_spring_strain(m, b.state.x));
   }

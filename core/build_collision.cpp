@@ -132,6 +132,8 @@ void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& 
     const ColliderDesc& d = scene.colliders[k];
     ColliderInfo ci;
     ci.name = d.name;
+    ci.start_frame = scene.simulation.start_frame;
+    ci.fps = scene.simulation.fps;
     ci.shape = d.shape;
     ci.friction = d.friction;
     place_analytic(d, ci);

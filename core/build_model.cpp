@@ -89,24 +89,12 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
   BuiltScene out;
   Model& m = out.model;
   const SimulationDesc& sim = scene.simulation;
-  m.integrator = sim.integrator;
-  m.steps_per_frame = steps_per_frame(sim);
-  m.fps = sim.fps;
-  m.dt = 1.0 / (sim.fps * m.steps_per_frame);
-  m.auto_step = sim.timestep_auto;
-  m.step_safety = sim.step_safety;
-  m.min_dt = sim.min_timestep;
-  m.start_frame = sim.start_frame;
-  m.end_frame = sim.end_frame;
+  out.options = make_sim_options(sim);
   m.gravity = sim.gravity + scene.forces.external_acceleration;
   m.wind_velocity = scene.forces.wind_velocity;
   m.wind_strength = scene.forces.wind_strength;
   m.air_damping = scene.forces.air_damping;
   m.random = scene.forces.random;
-  m.cg_tolerance = sim.cg_tolerance;
-  m.cg_max_iterations = sim.cg_max_iterations;
-  m.newton_iterations = sim.newton_iterations;
-  m.preconditioner = sim.preconditioner;
 
   // Arrays are reserved to their final size: growing by doubling would briefly hold twice a large array.
   std::size_t total_vertices = 0, total_tris = 0;
@@ -264,7 +252,7 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
   // Each spring computed once and no per-spring buffer, where the spring order allows it (docs/performance.md).
   if (build_spring_chunks(m)) m.spring_layout = SpringLayout::blocked;
   // The spring CSR only when a kernel of this model reads it (the blocked layout alone does not).
-  if (needs_particle_springs(m)) build_particle_springs(m);
+  if (needs_particle_springs(m, out.options.integrator)) build_particle_springs(m);
   // The strain limit's colour schedule and long-range attachments (systems/strain_limit.h).
   if (m.strain_limited) {
     build_spring_colours(m);
@@ -282,24 +270,24 @@ State make_state(const Model& model, std::vector<Vec3> positions) {
   return s;
 }
 
-Workspace make_workspace(const Model& model) {
+Workspace make_workspace(const Model& model, const SimOptions& options) {
   Workspace ws;
   ws.f.assign(model.particle_count, Vec3::Zero());
-  if (model.integrator == Integrator::rk4) {
+  if (options.integrator == Integrator::rk4) {
     ws.stage_x.assign(model.particle_count, Vec3::Zero());
     ws.stage_v.assign(model.particle_count, Vec3::Zero());
   }
   ws.normal.assign(model.particle_count, Vec3::Zero());
-  if (model.integrator == Integrator::implicit) {
+  if (options.integrator == Integrator::implicit) {
     for (auto* buf : {&ws.dv, &ws.cg_x, &ws.cg_r, &ws.cg_p, &ws.cg_q}) buf->assign(model.particle_count, Vec3::Zero());
     ws.cg_precond.assign(model.particle_count, Sym3{});
     ws.spring_block.assign(model.spring_count, Sym3{});
-    ws.solve_log.reserve(std::size_t(model.steps_per_frame));
-    if (model.preconditioner == Preconditioner::multigrid) {
+    ws.solve_log.reserve(std::size_t(options.steps_per_frame));
+    if (options.solver.preconditioner == Preconditioner::multigrid) {
       ws.cg_z.assign(model.particle_count, Vec3::Zero());
       ws.multigrid = build_multigrid_levels(model);
     }
-    if (model.preconditioner == Preconditioner::cholesky) {
+    if (options.solver.preconditioner == Preconditioner::cholesky) {
       ws.cg_z.assign(model.particle_count, Vec3::Zero());
       ws.cholesky = build_cholesky_factor(model);
     }

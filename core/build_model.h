@@ -1,5 +1,5 @@
 #pragma once
-// SceneDesc + one MeshData per cloth -> the immutable Model and the initial State.
+// SceneDesc + one MeshData per cloth -> the immutable Model, the run's SimOptions and the initial State.
 #include <vector>
 
 #include "core/mesh_data.h"
@@ -9,6 +9,7 @@ namespace clothsim {
 
 struct BuiltScene {
   Model model;
+  SimOptions options;
   State state;
 };
 

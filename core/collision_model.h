@@ -29,6 +29,8 @@ struct ColliderInfo {
   Index tri_begin = 0, tri_end = 0;        // rows of mesh_tri_index / 3
   int first_frame = 0;                     // sequence: frame number of its first frame
   int frame_count = 0;                     // sequence: frames in the sequence (0 for a static mesh)
+  int start_frame = 1;                     // sequence: the scene frame at t = 0 (the scene's startFrame)
+  Real fps = 24;                           // sequence: frames per second it plays at (the scene's fps)
   bool closed = false;                     // every edge has two triangles: the inside test applies
 };
 
@@ -38,8 +40,8 @@ struct FrameBlend {
   int f0 = 0, f1 = 0;
   Real w = 0;
 };
-inline FrameBlend frame_blend(const ColliderInfo& ci, int start_frame, Real fps, Real t) {
-  const Real local = std::clamp(start_frame + t * fps - ci.first_frame, Real(0), Real(ci.frame_count - 1));
+inline FrameBlend frame_blend(const ColliderInfo& ci, Real t) {
+  const Real local = std::clamp(ci.start_frame + t * ci.fps - ci.first_frame, Real(0), Real(ci.frame_count - 1));
   const int f0 = std::min(int(std::floor(local)), ci.frame_count - 1), f1 = std::min(f0 + 1, ci.frame_count - 1);
   return {f0, f1, local - f0};
 }

@@ -36,12 +36,12 @@ void build_particle_springs(const Model& m, std::vector<Index>& offset, std::vec
 
 void build_particle_springs(Model& m) { build_particle_springs(m, m.particle_spring_offset, m.particle_spring_index); }
 
-bool needs_particle_springs(const Model& m) {
-  return m.spring_layout != SpringLayout::blocked || m.integrator == Integrator::implicit;
+bool needs_particle_springs(const Model& m, Integrator integrator) {
+  return m.spring_layout != SpringLayout::blocked || integrator == Integrator::implicit;
 }
 
-void ensure_particle_springs(Model& m) {
-  if (needs_particle_springs(m) && m.particle_spring_offset.empty()) build_particle_springs(m);
+void ensure_particle_springs(Model& m, Integrator integrator) {
+  if (needs_particle_springs(m, integrator) && m.particle_spring_offset.empty()) build_particle_springs(m);
 }
 
 void build_particle_tris(Model& m) {

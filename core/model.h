@@ -1,6 +1,6 @@
 #pragma once
-// The immutable description of a simulation (Model), the only thing a step changes (State), and the
-// scratch sized once when the model is built (Workspace). All are structure-of-arrays: one contiguous
+// The immutable physics of a simulation (Model; how it is stepped is SimOptions, core/sim_options.h), the only
+// thing a step changes (State), and the scratch sized once when the model is built (Workspace). All are structure-of-arrays: one contiguous
 // buffer per field, named <entity>_<attr>, with shape and units in a comment.
 #include <array>
 #include <string>
@@ -12,6 +12,7 @@
 #include "core/multigrid_levels.h"
 #include "core/param_field.h"
 #include "core/scene_desc.h"
+#include "core/sim_options.h"
 
 namespace clothsim {
 
@@ -126,20 +127,6 @@ struct Model {
   Real air_damping = 0;                 // 1/s
   RandomForceDesc random;
 
-  // --- run settings
-  Integrator integrator = Integrator::symplectic;
-  Real dt = 0;                          // s, the step actually taken: 1/(fps * steps_per_frame)
-  int steps_per_frame = 1;
-  bool auto_step = false;               // timestep="auto": dt set by systems/auto_step.h, adapted by sim/frame_stepper.h
-  Real step_safety = 0.7;               // auto: fraction of the estimated stable step
-  Real min_dt = 0;                      // auto: smallest step, s, before the run stops as diverged
-  Real fps = 24;
-  int start_frame = 1, end_frame = 1;
-  Real cg_tolerance = 1e-6;             // implicit: relative CG residual |r|/|b| to stop at
-  int cg_max_iterations = 1000;         // implicit: CG iteration cap per linear solve
-  int newton_iterations = 1;            // implicit: linear solves per step
-  Preconditioner preconditioner = Preconditioner::multigrid;  // implicit: of the CG (systems/multigrid.h)
-
   std::vector<ClothInfo> cloths;
   CollisionModel collision;             // empty unless the scene has colliders or self-collision
 
@@ -189,8 +176,8 @@ struct Workspace {
   double seconds_collide = 0;
 };
 
-// Sizes the workspace for a model; nothing inside step allocates afterwards.
-Workspace make_workspace(const Model& model);
+// Sizes the workspace for a model stepped with these options; nothing inside step allocates afterwards.
+Workspace make_workspace(const Model& model, const SimOptions& options);
 // Rest state: the model's initial positions at rest.
 State make_state(const Model& model, std::vector<Vec3> positions);
 

@@ -8,7 +8,7 @@ namespace clothsim {
 BuiltScene build_spring_system(const SpringSystemDesc& d) {
   BuiltScene out;
   Model& m = out.model;
-  m.integrator = d.integrator;
+  out.options.integrator = d.integrator;
   m.gravity = d.gravity;
   m.particle_count = Index(d.positions.size());
   if (d.masses.size() != d.positions.size())

@@ -73,10 +73,10 @@ std::uint64_t inputs_fingerprint(std::string_view scene_text, std::span<const Me
 
 std::uint64_t fingerprint_mesh(const MeshData& mesh, std::uint64_t h) { return hash_mesh(mesh, h); }
 
-std::uint64_t scene_fingerprint(std::uint64_t inputs, const Model& model, std::span<const Vec3> x0) {
+std::uint64_t scene_fingerprint(std::uint64_t inputs, Real dt, std::span<const Vec3> x0) {
   std::uint64_t h = hash64(std::string_view(reinterpret_cast<const char*>(&inputs), sizeof inputs));
   h = hash64(std::string_view(reinterpret_cast<const char*>(x0.data()), x0.size_bytes()), h);
-  return hash64(std::string_view(reinterpret_cast<const char*>(&model.dt), sizeof model.dt), h);
+  return hash64(std::string_view(reinterpret_cast<const char*>(&dt), sizeof dt), h);
 }
 
 std::string encode_checkpoint(const Checkpoint& c) {

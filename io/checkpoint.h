@@ -36,8 +36,8 @@ std::uint64_t inputs_fingerprint(std::string_view scene_text, std::span<const Me
 std::uint64_t fingerprint_mesh(const MeshData& mesh, std::uint64_t h);
 
 // Fingerprint of what a run depends on: its inputs (inputs_fingerprint), the built model's initial positions
-// (which cover the transforms) and the step size.
-std::uint64_t scene_fingerprint(std::uint64_t inputs, const Model& model, std::span<const Vec3> x0);
+// (which cover the transforms) and the step size dt.
+std::uint64_t scene_fingerprint(std::uint64_t inputs, Real dt, std::span<const Vec3> x0);
 
 std::string encode_checkpoint(const Checkpoint& c);
 // Throws Error(path, ...) naming what is wrong: magic, version, size, checksum.

@@ -5,7 +5,7 @@
 
 namespace clothsim::io {
 
-std::string format_stats(const Model& m, const RunStats& s) {
+std::string format_stats(const Model& m, const SimOptions& o, const RunStats& s) {
   JsonWriter j;
   j.begin_object();
   j.field("scene", std::string_view(s.scene)).field("status", std::string_view(s.status));
@@ -16,12 +16,12 @@ std::string format_stats(const Model& m, const RunStats& s) {
   Index pieces = 0;
   for (const ClothInfo& c : m.cloths) pieces += c.pieces;
   j.field("pieces", pieces).field("cloths", int(m.cloths.size())).field("pinned", int(m.pinned.size()));
-  j.field("integrator", std::string_view(integrator_name(m.integrator)));
-  j.field("dt", m.dt).field("steps_per_frame", m.steps_per_frame).field("steps", s.steps);
-  j.field("timestep", std::string_view(m.auto_step ? "auto" : "fixed"));
+  j.field("integrator", std::string_view(integrator_name(o.integrator)));
+  j.field("dt", o.dt).field("steps_per_frame", o.steps_per_frame).field("steps", s.steps);
+  j.field("timestep", std::string_view(o.auto_step ? "auto" : "fixed"));
   j.field("force_evaluations", s.force_evaluations).field("threads", s.threads);
-  if (m.integrator == Integrator::implicit) {
-    j.field("preconditioner", std::string_view(preconditioner_name(m.preconditioner)));
+  if (o.integrator == Integrator::implicit) {
+    j.field("preconditioner", std::string_view(preconditioner_name(o.solver.preconditioner)));
     j.field("cg_iterations", s.cg_iterations).field("implicit_failed_steps", s.implicit_failed_steps);
   }
   if (m.strain_limited) j.field("strain_limit_iterations", s.strain_limit_iterations);
@@ -44,13 +44,13 @@ std::string format_stats(const Model& m, const RunStats& s) {
     j.begin_object().field("frame", f.frame).field("max_strain", f.max_strain).field("kinetic_energy", f.kinetic_energy);
     j.field("steps", f.steps.taken).field("steps_rejected", f.steps.rejected);
     j.field("step_min", f.steps.smallest).field("step_max", f.steps.largest);
-    if (m.integrator == Integrator::implicit) {
+    if (o.integrator == Integrator::implicit) {
       j.key("cg_iterations").begin_array();
       for (int it : f.cg_iterations) j.value(it);
       j.end_array().key("cg_residual").begin_array();
       for (Real r : f.cg_residual) j.value(r);
       j.end_array().field("failed_steps", f.implicit_failed);
-      if (m.preconditioner == Preconditioner::cholesky) j.field("factorizations", f.factorizations);
+      if (o.solver.preconditioner == Preconditioner::cholesky) j.field("factorizations", f.factorizations);
     }
     if (m.collision.enabled) {
       j.field("contacts", f.contacts).field("penetrations", f.penetrations);
@@ -72,8 +72,8 @@ std::string format_stats(const Model& m, const RunStats& s) {
   return j.str() + "\n";
 }
 
-void write_stats(const std::string& path, const Model& model, const RunStats& stats) {
-  write_file_atomic(path, format_stats(model, stats));
+void write_stats(const std::string& path, const Model& model, const SimOptions& options, const RunStats& stats) {
+  write_file_atomic(path, format_stats(model, options, stats));
 }
 
 }  // namespace clothsim::io

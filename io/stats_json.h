@@ -44,7 +44,7 @@ struct RunStats {
   std::vector<FrameStats> frames;
 };
 
-std::string format_stats(const Model& model, const RunStats& stats);
-void write_stats(const std::string& path, const Model& model, const RunStats& stats);
+std::string format_stats(const Model& model, const SimOptions& options, const RunStats& stats);
+void write_stats(const std::string& path, const Model& model, const SimOptions& options, const RunStats& stats);
 
 }  // namespace clothsim::io

@@ -38,42 +38,43 @@ const char* verdict_name(StepVerdict v) {
   return "";
 }
 
-FrameStepper::FrameStepper(const Model& m, const State& start) : x_start_(start.x) {
+FrameStepper::FrameStepper(const Model& m, const SimOptions& o, const State& start) : x_start_(start.x) {
   energy_start_ = mechanical_energy(m, start, x_start_);
-  energy_bound_ = energy_rise_bound(m, x_start_);
+  energy_bound_ = energy_rise_bound(m, x_start_, o.seconds());
 }
 
-Real FrameStepper::current_step(const Model& m) const { return std::ldexp(m.dt, -level_); }
+Real FrameStepper::current_step(const SimOptions& o) const { return std::ldexp(o.dt, -level_); }
 
 Real FrameStepper::energy_rise(const Model& m, const State& state) const {
   return mechanical_energy(m, state, x_start_) - energy_start_;
 }
 
-void FrameStepper::fixed_frame(const Model& m, State& state, State& scratch, Workspace& ws, FrameSteps& report) {
+void FrameStepper::fixed_frame(const Model& m, const SimOptions& o, State& state, State& scratch, Workspace& ws,
+                               FrameSteps& report) {
   // Only backward Euler can fail inside a step without leaving non-finite values; its strain check costs a pass
   // over the springs, shared between consecutive steps.
-  const bool check = m.integrator == Integrator::implicit;
+  const bool check = o.integrator == Integrator::implicit;
   Real strain = check ? max_spring_strain(m, state.x) : 0;
-  for (int k = 0; k < m.steps_per_frame; ++k) {
-    const StepResult result = step(m, state, scratch, ws, m.dt);
+  for (int k = 0; k < o.steps_per_frame; ++k) {
+    const StepResult result = step(m, o, state, scratch, ws, o.dt);
     std::swap(state, scratch);
-    count_accepted(report, m.dt);
+    count_accepted(report, o.dt);
     if (!check) continue;
     const Real strain_after = max_spring_strain(m, state.x);
     const StepVerdict verdict = result.failed                        ? StepVerdict::failed_solve
                                 : strain_after > strain + strain_jump ? StepVerdict::strain_jump
                                                                       : StepVerdict::none;
     if (verdict != StepVerdict::none && report.failed++ == 0)
-      report.first_failure = {verdict, m.dt, strain, strain_after, last_solve(ws)};
+      report.first_failure = {verdict, o.dt, strain, strain_after, last_solve(ws)};
     strain = strain_after;
   }
 }
 
-bool FrameStepper::advance_frame(const Model& m, State& state, State& scratch, Workspace& ws,
+bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& state, State& scratch, Workspace& ws,
                                  FrameSteps& report) {
   report = {};
-  if (!m.auto_step) {
-    fixed_frame(m, state, scratch, ws, report);
+  if (!o.auto_step) {
+    fixed_frame(m, o, state, scratch, ws, report);
     return true;
   }
   level_ = 0;
@@ -81,9 +82,9 @@ bool FrameStepper::advance_frame(const Model& m, State& state, State& scratch, W
   Real strain = max_spring_strain(m, state.x);
   // Position inside the frame in steps of the current level; the frame ends at steps_per_frame << level.
   std::int64_t pos = 0;
-  while (pos < (std::int64_t(m.steps_per_frame) << level_)) {
-    const Real h = current_step(m);
-    const StepResult result = step(m, state, scratch, ws, h);
+  while (pos < (std::int64_t(o.steps_per_frame) << level_)) {
+    const Real h = current_step(o);
+    const StepResult result = step(m, o, state, scratch, ws, h);
     StepVerdict verdict = StepVerdict::none;
     Real strain_after = strain;
     if (result.failed) verdict = StepVerdict::failed_solve;
@@ -94,7 +95,7 @@ bool FrameStepper::advance_frame(const Model& m, State& state, State& scratch, W
       // Rejected: state still holds the step's start, untouched (step wrote into scratch only).
       ++report.rejected;
       last_ = verdict;
-      if (0.5 * h < m.min_dt || level_ >= max_level) return false;
+      if (0.5 * h < o.min_dt || level_ >= max_level) return false;
       ++level_;
       pos *= 2;
       easy_ = 0;

@@ -36,8 +36,8 @@ struct FrameSteps {
 // the strain; the frame's end is checked by the run's divergence guard (sim/simulation.h).
 //
 // A rejection keeps the state the step started from (step writes into scratch only), halves the step and
-// retries; after grow_after accepted steps in a row the step doubles again, up to model.dt, when that keeps the
-// frame's steps aligned. Each frame starts again at model.dt, so a frame's steps depend on its start state alone
+// retries; after grow_after accepted steps in a row the step doubles again, up to options.dt, when that keeps the
+// frame's steps aligned. Each frame starts again at options.dt, so a frame's steps depend on its start state alone
 // and a run resumed from a checkpoint takes the same steps. Every decision uses deterministic sums: the steps
 // are the same at any thread count.
 class FrameStepper {
@@ -48,13 +48,14 @@ class FrameStepper {
   static constexpr int grow_after = 16;
 
   // start: the scene's initial state (energies are measured from it, as the run's divergence guard does).
-  FrameStepper(const Model& model, const State& start);
-  // Advances state by one frame; false when a step below model.min_dt was rejected (timestep="auto" only): state
+  FrameStepper(const Model& model, const SimOptions& options, const State& start);
+  // Advances state by one frame; false when a step below options.min_dt was rejected (timestep="auto" only): state
   // is then the last accepted one, inside the frame.
-  bool advance_frame(const Model& model, State& state, State& scratch, Workspace& ws, FrameSteps& report);
+  bool advance_frame(const Model& model, const SimOptions& options, State& state, State& scratch, Workspace& ws,
+                     FrameSteps& report);
   StepVerdict last_rejection() const { return last_; }
-  // The step the stepper takes now: model.dt with a fixed timestep.
-  Real current_step(const Model& model) const;
+  // The step the stepper takes now: options.dt with a fixed timestep.
+  Real current_step(const SimOptions& options) const;
 
   // The divergence guard's terms: the mechanical energy's rise since the start, J, and its bound.
   Real energy_rise(const Model& model, const State& state) const;
@@ -62,10 +63,11 @@ class FrameStepper {
   std::span<const Vec3> start_positions() const { return x_start_; }
 
  private:
-  void fixed_frame(const Model& model, State& state, State& scratch, Workspace& ws, FrameSteps& report);
+  void fixed_frame(const Model& model, const SimOptions& options, State& state, State& scratch, Workspace& ws,
+                   FrameSteps& report);
   std::vector<Vec3> x_start_;
   Real energy_start_ = 0, energy_bound_ = 0;
-  int level_ = 0;  // step = model.dt / 2^level
+  int level_ = 0;  // step = options.dt / 2^level
   int easy_ = 0;   // accepted steps in a row at this level
   StepVerdict last_ = StepVerdict::none;
 };

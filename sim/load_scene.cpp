@@ -35,7 +35,7 @@ LoadedScene load_scene(const std::string& path) {
   const double c1 = process_cpu_seconds();
   s.built = build_model(s.desc, std::move(meshes));  // consumed: a large mesh is not held twice
   build_collision(s.desc, colliders, s.built.state.x, s.built.model);
-  if (s.built.model.auto_step) choose_auto_step(s.built.model, s.built.state.x, path);
+  if (s.built.options.auto_step) choose_auto_step(s.built.model, s.built.options, s.built.state.x, path);
   s.load_seconds = std::chrono::duration<double>(t1 - t0).count();
   s.topology_seconds = std::chrono::duration<double>(clock::now() - t1).count();
   s.load_cpu_seconds = c1 - c0;

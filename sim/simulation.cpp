@@ -13,12 +13,13 @@ namespace clothsim::sim {
 
 Simulation::Simulation(BuiltScene built, ColliderTrack track)
     : model_(std::move(built.model)),
+      options_(built.options),
       state_(std::move(built.state)),
       scratch_(state_),
-      ws_(make_workspace(model_)),
+      ws_(make_workspace(model_, options_)),
       track_(std::move(track)),
-      stepper_(model_, state_),
-      next_frame_(model_.start_frame),
+      stepper_(model_, options_, state_),
+      next_frame_(options_.start_frame),
       last_strain_(max_spring_strain(model_, state_.x)) {}
 
 void Simulation::resume(State state, int frame) {
@@ -28,12 +29,12 @@ void Simulation::resume(State state, int frame) {
   last_strain_ = max_spring_strain(model_, state_.x);
 }
 
-std::string describe_failure(const Model& model, const StepFailure& f, int frame) {
+std::string describe_failure(const SolverOptions& solver, const StepFailure& f, int frame) {
   char text[400];
   if (f.verdict == StepVerdict::failed_solve && !f.solve.converged)
     std::snprintf(text, sizeof text, "frame %d: CG stopped at relative residual %.3g above cgTolerance %.3g "
                   "(cgMaxIterations %d): raise cgMaxIterations or use preconditioner=\"cholesky\"", frame,
-                  f.solve.cg_residual, model.cg_tolerance, model.cg_max_iterations);
+                  f.solve.cg_residual, solver.cg_tolerance, solver.cg_max_iterations);
   else if (f.verdict == StepVerdict::failed_solve)
     std::snprintf(text, sizeof text, "frame %d: a Newton correction raised the backward-Euler residual: take a "
                   "smaller timestep", frame);
@@ -49,9 +50,9 @@ FrameReport Simulation::advance_frame() {
   r.frame = next_frame_++;
   ws_.solve_log.clear();
   bool stepped = true;
-  if (r.frame > model_.start_frame) {
+  if (r.frame > options_.start_frame) {
     track_.prepare(model_, r.frame, ws_.collision);
-    stepped = stepper_.advance_frame(model_, state_, scratch_, ws_, r.steps);
+    stepped = stepper_.advance_frame(model_, options_, state_, scratch_, ws_, r.steps);
   }
   // The divergence guard (docs/stability.md): every frame is checked before anyone writes it.
   const bool finite = state_is_finite(state_);
@@ -61,7 +62,7 @@ FrameReport Simulation::advance_frame() {
   if (!stepped || !finite || !(energy_rise <= stepper_.energy_bound()) || torn) {
     char reason[200];
     if (!stepped)
-      std::snprintf(reason, sizeof reason, "a step below minTimestep %.3g s was rejected: %s", model_.min_dt,
+      std::snprintf(reason, sizeof reason, "a step below minTimestep %.3g s was rejected: %s", options_.min_dt,
                     verdict_name(stepper_.last_rejection()));
     else if (finite && torn)
       std::snprintf(reason, sizeof reason, "the largest spring strain rose from %.3g to %.3g within one frame, "
@@ -71,9 +72,9 @@ FrameReport Simulation::advance_frame() {
                     energy_rise, stepper_.energy_bound());
     else
       std::snprintf(reason, sizeof reason, "non-finite positions or velocities");
-    const Real failed_step = stepper_.current_step(model_);
+    const Real failed_step = stepper_.current_step(options_);
     const std::string remedy =
-        step_remedy(model_, scene_stable_steps(model_, stepper_.start_positions()), failed_step);
+        step_remedy(options_, scene_stable_steps(model_, stepper_.start_positions()), failed_step);
     char text[600];
     std::snprintf(text, sizeof text, "frame %d, step %lld: the simulation diverged (%s); no frame from here on "
                   "was written. The step was %.3g s: %s.", r.frame, static_cast<long long>(state_.step), reason,
@@ -89,7 +90,7 @@ FrameReport Simulation::advance_frame() {
   ws_.collision.contacts_found = 0;
   r.zones = ws_.collision.zones.figures;
   ws_.collision.zones.figures = {};
-  if (r.steps.failed > 0 && failed_steps_ == 0) first_failure_ = describe_failure(model_, r.steps.first_failure, r.frame);
+  if (r.steps.failed > 0 && failed_steps_ == 0) first_failure_ = describe_failure(options_.solver, r.steps.first_failure, r.frame);
   failed_steps_ += r.steps.failed;
   return r;
 }

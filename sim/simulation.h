@@ -36,6 +36,7 @@ class Simulation {
   explicit Simulation(const LoadedScene& scene) : Simulation(scene.built, ColliderTrack(scene.desc)) {}
 
   const Model& model() const { return model_; }
+  const SimOptions& options() const { return options_; }
   const State& state() const { return state_; }
   Workspace& workspace() { return ws_; }
   const Workspace& workspace() const { return ws_; }
@@ -55,6 +56,7 @@ class Simulation {
 
  private:
   Model model_;
+  SimOptions options_;
   State state_, scratch_;
   Workspace ws_;
   ColliderTrack track_;
@@ -66,6 +68,6 @@ class Simulation {
 };
 
 // The sentence `run` prints for a step that failed its check and was kept.
-std::string describe_failure(const Model& model, const StepFailure& failure, int frame);
+std::string describe_failure(const SolverOptions& solver, const StepFailure& failure, int frame);
 
 }  // namespace clothsim::sim

@@ -16,7 +16,7 @@ std::string seconds(Real s) {
 }
 
 // The step to advise: auto's target, never above half a step that diverged.
-Real advised_step(const Model& m, const StableSteps& limits, Real diverged_step) {
+Real advised_step(const SimOptions& m, const StableSteps& limits, Real diverged_step) {
   Real advised = auto_step_target(m, limits);
   if (diverged_step > 0) advised = std::min(advised, 0.5 * diverged_step);
   return advised;
@@ -28,13 +28,13 @@ StableSteps scene_stable_steps(const Model& model, std::span<const Vec3> x_rest)
   return stable_steps(estimate_modes(model, x_rest));
 }
 
-std::string step_remedy(const Model& m, const StableSteps& limits, Real diverged_step) {
+std::string step_remedy(const SimOptions& m, const StableSteps& limits, Real diverged_step) {
   const std::string alternatives = ", timestep=\"auto\", or integrator=\"implicit\"";
   const Real limit = stable_step_limit(limits, m.integrator);
   switch (m.integrator) {
     case Integrator::euler:
       if (!(limit > 0)) {
-        Model symplectic = m;
+        SimOptions symplectic = m;
         symplectic.integrator = Integrator::symplectic;
         return "explicit Euler has no stable step for these springs (a stiff mode has no damping): use "
                "integrator=\"symplectic\" with a time step below " + seconds(advised_step(symplectic, limits, 0)) +
@@ -68,7 +68,7 @@ std::string step_remedy(const Model& m, const StableSteps& limits, Real diverged
          seconds(0.25 * step) + ", timestep=\"auto\", or a tighter cgTolerance";
 }
 
-std::string step_warning(const Model& m, const StableSteps& limits) {
+std::string step_warning(const SimOptions& m, const StableSteps& limits) {
   if (m.integrator == Integrator::implicit) return "";
   const Real limit = stable_step_limit(limits, m.integrator);
   if (std::isinf(limit) || m.dt <= auto_step_target(m, limits)) return "";

@@ -15,9 +15,9 @@ StableSteps scene_stable_steps(const Model& model, std::span<const Vec3> x_rest)
 // One sentence naming the remedy: a step below the advised one (stepSafety x the integrator's damped limit, the
 // step timestep="auto" aims for), timestep="auto", or the implicit integrator. diverged_step > 0 is a step that
 // has just diverged: the advice is then at most half of it, whatever the estimate says.
-std::string step_remedy(const Model& model, const StableSteps& limits, Real diverged_step = 0);
+std::string step_remedy(const SimOptions& options, const StableSteps& limits, Real diverged_step = 0);
 
 // The validate warning for the scene's step, or "" when it is within the advised step.
-std::string step_warning(const Model& model, const StableSteps& limits);
+std::string step_warning(const SimOptions& options, const StableSteps& limits);
 
 }  // namespace clothsim::sim

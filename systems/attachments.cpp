@@ -14,7 +14,7 @@ void apply_attachments(const Model& m, const CollisionScratch& s, const State& i
   const Real t = in.time + h;
   parallel_over(n, particle_grain, [&](Index k) {
     const ColliderInfo& ci = c.colliders[m.attach_collider[k]];
-    const FrameBlend b = frame_blend(ci, m.start_frame, m.fps, t);
+    const FrameBlend b = frame_blend(ci, t);
     const Index* v = &c.mesh_tri_index[3 * m.attach_tri[k]];
     const ColliderWindow& w = s.collider_frames[m.attach_collider[k]];
     const Vec3 p = attachment_point(m.attach_weight[k], m.attach_offset[k], collider_vertex(c, ci, w, b, v[0]),

@@ -13,11 +13,12 @@ namespace clothsim {
 // integrators; for backward Euler, which has no stability limit, step_safety x 20 ms (accuracy: its numerical
 // damping of a mode of frequency w over a step is 1/(1 + (h w)^2)), the solver's health then halving it.
 // 0 when there is none (explicit Euler on an undamped stiff mode).
-Real auto_step_target(const Model& model, const StableSteps& limits);
+Real auto_step_target(const SimOptions& options, const StableSteps& limits);
 
-// Sets model.dt and model.steps_per_frame for timestep="auto": the largest step that divides a frame evenly and
+// Sets options.dt and options.steps_per_frame for timestep="auto": the largest step that divides a frame evenly and
 // does not exceed auto_step_target; min_dt defaults to dt / 1024. Throws Error naming the scene when explicit
 // Euler has no stable step.
-void choose_auto_step(Model& model, std::span<const Vec3> x_rest, const std::string& scene_path);
+void choose_auto_step(const Model& model, SimOptions& options, std::span<const Vec3> x_rest,
+                      const std::string& scene_path);
 
 }  // namespace clothsim

@@ -66,7 +66,8 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
 // block-Jacobi, applied per particle where needed (z is not stored), or the multigrid cycle or the Cholesky
 // solve into ws.cg_z.
 template <Preconditioner Kind>
-CgResult run_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h, ImplicitLayout layout) {
+CgResult run_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3> x, Workspace& ws, Real h,
+                ImplicitLayout layout) {
   constexpr bool cycle = Kind != Preconditioner::jacobi;
   auto precondition = [&](std::span<const Vec3> r_in, std::span<Vec3> z_out) {
     if constexpr (Kind == Preconditioner::multigrid) apply_multigrid(m, x, h, layout, ws, r_in, z_out);
@@ -88,7 +89,7 @@ CgResult run_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h, 
   });
   const Real bb = start[0];
   Real rr = bb, rz = start[1];
-  const Real stop = m.cg_tolerance * m.cg_tolerance * bb;
+  const Real stop = opt.cg_tolerance * opt.cg_tolerance * bb;
   CgResult res;
   // Below the smallest normal double a dot product keeps only a few significant bits, and alpha = rz / pq built
   // from two such numbers can be off by orders of magnitude: a motion decaying to exactly zero (the undamped chain
@@ -96,7 +97,7 @@ CgResult run_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h, 
   // zero for the solve's purpose.
   constexpr Real smallest_normal = std::numeric_limits<Real>::min();
   if (!(bb >= smallest_normal)) return res;
-  while (rr > stop && res.iterations < m.cg_max_iterations) {
+  while (rr > stop && res.iterations < opt.cg_max_iterations) {
     apply_system(m, x, h, layout, ws, p, q);
     const Real pq = deterministic_sum(n, particle_grain, Real(0), [&](Index i) { return p[i].dot(q[i]); });
     // A is positive definite by construction; this guards round-off at convergence and subnormal directions.
@@ -125,25 +126,26 @@ CgResult run_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h, 
 
 }  // namespace
 
-CgResult solve_cg(const Model& m, std::span<const Vec3> x, Workspace& ws, Real h, ImplicitLayout layout) {
-  switch (m.preconditioner) {
-    case Preconditioner::multigrid: return run_cg<Preconditioner::multigrid>(m, x, ws, h, layout);
+CgResult solve_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3> x, Workspace& ws, Real h,
+                  ImplicitLayout layout) {
+  switch (opt.preconditioner) {
+    case Preconditioner::multigrid: return run_cg<Preconditioner::multigrid>(m, opt, x, ws, h, layout);
     case Preconditioner::cholesky: {
-      const CgResult res = run_cg<Preconditioner::cholesky>(m, x, ws, h, layout);
+      const CgResult res = run_cg<Preconditioner::cholesky>(m, opt, x, ws, h, layout);
       ws.cholesky_last_iterations = res.iterations;
       return res;
     }
     case Preconditioner::jacobi: break;
   }
-  return run_cg<Preconditioner::jacobi>(m, x, ws, h, layout);
+  return run_cg<Preconditioner::jacobi>(m, opt, x, ws, h, layout);
 }
 
-StepResult integrate_implicit(const Model& m, const State& in, State& out, Workspace& ws, Real h,
-                              ImplicitLayout layout) {
+StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const State& in, State& out, Workspace& ws,
+                              Real h, ImplicitLayout layout) {
   const Index n = m.particle_count;
   Workspace::SolveRecord record;
   Real last_residual = 0;  // |b| of the previous Newton correction's right-hand side (the backward-Euler residual)
-  for (int k = 0; k < m.newton_iterations; ++k) {
+  for (int k = 0; k < opt.newton_iterations; ++k) {
     const bool first = k == 0;
     // Baraff & Witkin linearise about (x0, v0); each Newton correction about the latest iterate (out.x, out.v).
     std::span<const Vec3> x = first ? std::span<const Vec3>(in.x) : std::span<const Vec3>(out.x);
@@ -158,12 +160,12 @@ StepResult integrate_implicit(const Model& m, const State& in, State& out, Works
       if (k >= 2 && residual > last_residual) record.newton_diverged = true;
       last_residual = residual;
     }
-    if (m.preconditioner == Preconditioner::multigrid) build_multigrid_operators(m, h, ws);
-    if (m.preconditioner == Preconditioner::cholesky) record.factorizations += refresh_cholesky(m, h, ws);
-    const CgResult cg = solve_cg(m, x, ws, h, layout);
+    if (opt.preconditioner == Preconditioner::multigrid) build_multigrid_operators(m, h, ws);
+    if (opt.preconditioner == Preconditioner::cholesky) record.factorizations += refresh_cholesky(m, h, ws);
+    const CgResult cg = solve_cg(m, opt, x, ws, h, layout);
     record.cg_iterations += cg.iterations;
     record.cg_residual = cg.residual;
-    if (!(cg.residual <= m.cg_tolerance)) record.converged = false;
+    if (!(cg.residual <= opt.cg_tolerance)) record.converged = false;
     parallel_over(n, particle_grain, [&](Index i) {
       ws.dv[i] += ws.cg_x[i];
       out.v[i] = in.v[i] + ws.dv[i];

@@ -17,17 +17,18 @@ struct CgResult {
   Real residual = 0;  // |r| / |b| at exit (0 when b = 0)
 };
 
-// Advances in by h into out; model.newton_iterations linear solves (the first is Baraff & Witkin's, later ones
+// Advances in by h into out; opt.newton_iterations linear solves (the first is Baraff & Witkin's, later ones
 // are Newton corrections of the backward-Euler residual about the latest iterate). Records the step's health in
 // ws.solve_log while its capacity lasts (CG iterations, residual, convergence) and returns failed when the
 // solve is not to be trusted (Workspace::SolveRecord::failed: a solve stopped at its cap, or a Newton correction
 // raised the residual). The strain a step made is the frame loop's check (sim/frame_stepper.h).
-StepResult integrate_implicit(const Model& model, const State& in, State& out, Workspace& ws, Real h,
-                        ImplicitLayout layout = ImplicitLayout::spring_blocks);
+StepResult integrate_implicit(const Model& model, const SolverOptions& opt, const State& in, State& out, Workspace& ws,
+                              Real h, ImplicitLayout layout = ImplicitLayout::spring_blocks);
 
 // One preconditioned CG solve of A y = b, b already in ws.cg_r, y left in ws.cg_x; x are the positions the
 // springs are linearised about (read by the recompute layout). Builds nothing: ws.spring_block, ws.cg_precond
 // and (multigrid) the levels' operators must be current. Exposed for the benchmark.
-CgResult solve_cg(const Model& model, std::span<const Vec3> x, Workspace& ws, Real h, ImplicitLayout layout);
+CgResult solve_cg(const Model& model, const SolverOptions& opt, std::span<const Vec3> x, Workspace& ws, Real h,
+                  ImplicitLayout layout);
 
 }  // namespace clothsim

@@ -230,7 +230,7 @@ Real mechanical_energy(const Model& m, const State& s, std::span<const Vec3> x_s
   return particles + springs;
 }
 
-Real energy_rise_bound(const Model& m, std::span<const Vec3> x_start) {
+Real energy_rise_bound(const Model& m, std::span<const Vec3> x_start, Real duration) {
   Real mass = 0;
   Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
   for (Index i = 0; i < m.particle_count; ++i) {
@@ -239,7 +239,6 @@ Real energy_rise_bound(const Model& m, std::span<const Vec3> x_start) {
     hi = hi.cwiseMax(x_start[i]);
   }
   const Real diagonal = m.particle_count > 0 ? (hi - lo).norm() : 0;
-  const Real duration = (m.end_frame - m.start_frame) / m.fps;
   const Real random_speed = std::sqrt(3.0) * m.random.amplitude * duration;
   Real springs = 0;
   for (Index s = 0; s < m.spring_count; ++s) springs += 0.5 * m.spring_ke[s] * std::pow(0.1 * m.spring_rest[s], 2);
@@ -248,14 +247,14 @@ Real energy_rise_bound(const Model& m, std::span<const Vec3> x_start) {
   return 10 * scale;
 }
 
-bool run_diverges(const Model& m, const State& start, Real h, std::int64_t steps) {
-  const Real e0 = mechanical_energy(m, start, start.x), bound = energy_rise_bound(m, start.x);
-  const std::int64_t per_frame = std::max<std::int64_t>(1, std::llround(1 / (m.fps * h)));
+bool run_diverges(const Model& m, const SimOptions& o, const State& start, Real h, std::int64_t steps) {
+  const Real e0 = mechanical_energy(m, start, start.x), bound = energy_rise_bound(m, start.x, o.seconds());
+  const std::int64_t per_frame = std::max<std::int64_t>(1, std::llround(1 / (o.fps * h)));
   Real frame_strain = max_spring_strain(m, start.x);
   State s = start, scratch = start;
-  Workspace ws = make_workspace(m);
+  Workspace ws = make_workspace(m, o);
   for (std::int64_t k = 0; k < steps; ++k) {
-    step(m, s, scratch, ws, h);
+    step(m, o, s, scratch, ws, h);
     std::swap(s, scratch);
     if (!state_is_finite(s) || !(mechanical_energy(m, s, start.x) - e0 <= bound)) return true;
     if ((k + 1) % per_frame == 0 || k + 1 == steps) {

@@ -59,19 +59,19 @@ Real mechanical_energy(const Model& model, const State& state, std::span<const V
 
 // The largest rise of mechanical_energy over its start value a run may show before it is declared diverged:
 // 10 E_scale with E_scale = M (|g| D + |u_wind|^2 / 2 + (sqrt(3) a_random T)^2 / 2) + sum ke (0.1 rest)^2 / 2,
-// M the free mass, D the diagonal of the start positions' bounding box, T the run's duration. A passive cloth
+// M the free mass, D the diagonal of the start positions' bounding box, T the run's duration (s). A passive cloth
 // only loses energy; E_scale bounds what gravity, wind and random forcing can feed it, and the spring term
 // (10% strain in every spring) keeps the bound positive in a scene with no external force. docs/stability.md.
-Real energy_rise_bound(const Model& model, std::span<const Vec3> x_start);
+Real energy_rise_bound(const Model& model, std::span<const Vec3> x_start, Real duration);
 
 // A frame whose largest spring strain rose by more than this (100% of a rest length) has blown up even where the
 // energy bound has not yet seen it (an explicit step far past its limit): the run reports it as diverged.
 inline constexpr Real frame_strain_jump = 1.0;
 
-// Runs `steps` steps of h from start with the model's integrator; true when it diverged as `clothsim run` judges
+// Runs `steps` steps of h from start with the options' integrator; true when it diverged as `clothsim run` judges
 // it: non-finite positions or velocities, the mechanical energy risen past energy_rise_bound, or the largest
-// spring strain risen by more than frame_strain_jump within a frame (1 / model.fps). For the stability studies
+// spring strain risen by more than frame_strain_jump within a frame (1 / options.fps). For the stability studies
 // and tests (allocates its own workspace).
-bool run_diverges(const Model& model, const State& start, Real h, std::int64_t steps);
+bool run_diverges(const Model& model, const SimOptions& options, const State& start, Real h, std::int64_t steps);
 
 }  // namespace clothsim

@@ -13,11 +13,11 @@
 
 namespace clothsim {
 
-StepResult step(const Model& model, const State& in, State& out, Workspace& ws, Real h) {
+StepResult step(const Model& model, const SimOptions& options, const State& in, State& out, Workspace& ws, Real h) {
   StepResult result;
   const auto t0 = std::chrono::steady_clock::now();
   const double forces_before = ws.seconds_forces, collide_before = ws.seconds_collide;
-  switch (model.integrator) {
+  switch (options.integrator) {
     case Integrator::euler:
       eval_forces(model, in.x, in.v, in.time, ws);
       integrate_euler(in.x, in.v, ws.f, h, out.x, out.v);
@@ -29,7 +29,7 @@ StepResult step(const Model& model, const State& in, State& out, Workspace& ws, 
       integrate_rk4(model, in, out, ws, h);
       break;
     case Integrator::implicit:
-      result = integrate_implicit(model, in, out, ws, h);
+      result = integrate_implicit(model, options.solver, in, out, ws, h);
       break;
   }
   apply_attachments(model, ws.collision, in, out, h);

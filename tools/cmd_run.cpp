@@ -46,7 +46,7 @@ struct FrameRange {
   int first, last;
 };
 
-FrameRange parse_frames(const std::string& text, const Model& m) {
+FrameRange parse_frames(const std::string& text, const SimOptions& m) {
   const auto colon = text.find(':');
   if (colon == std::string::npos) throw UsageError("--frames expects A:B, got '" + text + "'");
   FrameRange r{parse_int("--frames", text.substr(0, colon), 0), parse_int("--frames", text.substr(colon + 1), 0)};
@@ -107,8 +107,9 @@ int cmd_run(int argc, char** argv) {
   sim::LoadedScene loaded = sim::load_scene(args.positional[0]);
   sim::Simulation simulation(std::move(loaded.built), sim::ColliderTrack(loaded.desc));
   const Model& model = simulation.model();
-  const FrameRange frames = args.has("--frames") ? parse_frames(args.get("--frames"), model)
-                                                 : FrameRange{model.start_frame, model.end_frame};
+  const SimOptions& options = simulation.options();
+  const FrameRange frames = args.has("--frames") ? parse_frames(args.get("--frames"), options)
+                                                 : FrameRange{options.start_frame, options.end_frame};
 
   const std::string out = args.get("--out"), stats_path = args.get("--stats");
   const std::vector<std::string> dirs = prepare_run_outputs(loaded.desc, args.has("--out") ? &out : nullptr,
@@ -116,7 +117,7 @@ int cmd_run(int argc, char** argv) {
   for (std::size_t c = 0; c < model.cloths.size(); ++c)
     io::write_material(dirs[c], model.cloths[c], loaded.desc.cloths[c].save_name);
 
-  RunCheckpoints checkpoints(loaded.desc, loaded.inputs_fingerprint, model, simulation.state(), dirs.front(),
+  RunCheckpoints checkpoints(loaded.desc, loaded.inputs_fingerprint, model, options, simulation.state(), dirs.front(),
                              args.has("--checkpoint-every")
                                  ? parse_int("--checkpoint-every", args.get("--checkpoint-every"), 0)
                                  : loaded.desc.simulation.checkpoint_every,
@@ -177,7 +178,7 @@ int cmd_run(int argc, char** argv) {
   stats.collide_seconds = ws.seconds_collide;
   stats.peak_rss_bytes = peak_rss_bytes();
   stats.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  if (args.has("--stats")) io::write_stats(args.get("--stats"), model, stats);
+  if (args.has("--stats")) io::write_stats(args.get("--stats"), model, options, stats);
   return status;
 }
 

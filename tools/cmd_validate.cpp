@@ -13,7 +13,7 @@ namespace {
 // Settings that parse but do not do what a user of the original tool expects (docs/scene-format.md, "Names
 // from the original tool").
 void print_setting_warnings(const SceneDesc& d, const Model& m) {
-  if (m.integrator == Integrator::euler && m.air_damping == 0) {
+  if (d.simulation.integrator == Integrator::euler && m.air_damping == 0) {
     bool damped = false;
     for (Index k = 0; k < m.spring_count && !damped; ++k) damped = m.spring_kd[k] > 0;
     if (!damped)
@@ -37,12 +37,13 @@ int cmd_validate(int argc, char** argv) {
   if (args.positional.size() != 1) throw UsageError("expected one scene file");
   const sim::LoadedScene s = sim::load_scene(args.positional[0]);
   const Model& m = s.built.model;
+  const SimOptions& o = s.built.options;
   std::printf("%s: ok\n", args.positional[0].c_str());
   std::printf("  cloths %zu, particles %d, springs %d, triangles %d, pinned %zu (attached %zu), stitches %d\n",
               m.cloths.size(), m.particle_count, m.spring_count, m.tri_count, m.pinned.size(),
               m.attach_particle.size(), m.stitch_count);
-  std::printf("  frames %d..%d at %g fps, %d steps per frame of %.6g s\n", m.start_frame, m.end_frame, m.fps,
-              m.steps_per_frame, m.dt);
+  std::printf("  frames %d..%d at %g fps, %d steps per frame of %.6g s\n", o.start_frame, o.end_frame, o.fps,
+              o.steps_per_frame, o.dt);
   // Whether each parameter stayed one scalar or became an array because a map was given (docs/maps.md).
   auto form = [](const ParamField& f) {
     if (f.uniform()) return std::string("one value");
@@ -59,9 +60,9 @@ int cmd_validate(int argc, char** argv) {
   std::printf("  omega_max %.6g rad/s, damping rate up to %.6g 1/s; largest stable step: symplectic %.6g s, "
               "rk4 %.6g s, euler %s, implicit unlimited\n", limits.omega_max, limits.gamma_max, limits.symplectic,
               limits.rk4, euler);
-  if (m.auto_step)
-    std::printf("  timestep auto: %.6g s (stepSafety %g), at least %.6g s\n", m.dt, m.step_safety, m.min_dt);
-  const std::string warning = sim::step_warning(m, limits);
+  if (o.auto_step)
+    std::printf("  timestep auto: %.6g s (stepSafety %g), at least %.6g s\n", o.dt, o.step_safety, o.min_dt);
+  const std::string warning = sim::step_warning(o, limits);
   if (!warning.empty()) std::printf("  %s\n", warning.c_str());
   print_setting_warnings(s.desc, m);
   return exit_ok;

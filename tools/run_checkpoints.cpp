@@ -9,13 +9,14 @@
 namespace clothsim::cli {
 
 RunCheckpoints::RunCheckpoints(const SceneDesc& scene, std::uint64_t inputs, const Model& model,
-                               const State& initial, std::string dir, int every, int first_output)
+                               const SimOptions& options, const State& initial, std::string dir, int every,
+                               int first_output)
     : dir_(std::move(dir)),
       stem_(std::filesystem::path(scene.path).stem().string()),
       every_(every),
-      start_frame_(model.start_frame),
+      start_frame_(options.start_frame),
       first_output_(first_output),
-      fingerprint_(io::scene_fingerprint(inputs, model, initial.x)),
+      fingerprint_(io::scene_fingerprint(inputs, options.dt, initial.x)),
       particle_count_(model.particle_count) {}
 
 RunCheckpoints::Start RunCheckpoints::start(bool resume, bool quiet) {

@@ -14,12 +14,12 @@ class RunCheckpoints {
  public:
   // every: frames between checkpoints (0: none). Checkpoints go to `dir` as <scene stem>.<frame>.ckpt.
   // inputs: io::inputs_fingerprint of the scene; first_output: the first frame this run writes.
-  RunCheckpoints(const SceneDesc& scene, std::uint64_t inputs, const Model& model, const State& initial,
-                 std::string dir, int every, int first_output);
+  RunCheckpoints(const SceneDesc& scene, std::uint64_t inputs, const Model& model, const SimOptions& options,
+                 const State& initial, std::string dir, int every, int first_output);
 
   // Where the run starts: with `resume`, the newest valid checkpoint (warning on stderr about each invalid newer
   // one): its state and the first frame still to compute; otherwise, or when none is valid, no state and
-  // model.start_frame. When resuming or checkpointing, checkpoints after the starting point are deleted: this run
+  // options.start_frame. When resuming or checkpointing, checkpoints after the starting point are deleted: this run
   // replaces them.
   struct Start {
     int first_frame = 0;

@@ -179,7 +179,7 @@ Problem make_sheet_equilibrium(bool quick) {
   std::fprintf(stderr, "  equilibrium reached after %lld steps\n", static_cast<long long>(state.step));
   state.v.assign(state.v.size(), Vec3::Zero());
   Model still = p.model;
-  Workspace ws = make_workspace(still);
+  Workspace ws = make_workspace(still, SimOptions{});
   eval_forces(still, state.x, state.v, 0, ws);
   double residual = 0;
   for (Index i = 0; i < still.particle_count; ++i) residual = std::max(residual, double(ws.f[i].norm()));

@@ -32,13 +32,14 @@ struct Row {
   Real auto_step = 0, largest = 0;  // largest < 0: even 16x auto ran; 0: auto itself diverged
 };
 
-Row study_scene(const std::string& name, const Model& model, const State& start, Real seconds) {
-  Row row{name, integrator_name(model.integrator)};
-  Model automatic = model;
+Row study_scene(const std::string& name, const Model& model, const SimOptions& options, const State& start,
+                Real seconds) {
+  Row row{name, integrator_name(options.integrator)};
+  SimOptions automatic = options;
   automatic.auto_step = true;
-  choose_auto_step(automatic, start.x, name);
+  choose_auto_step(model, automatic, start.x, name);
   row.auto_step = automatic.dt;
-  auto stable = [&](Real h) { return !run_diverges(model, start, h, std::int64_t(std::ceil(seconds / h))); };
+  auto stable = [&](Real h) { return !run_diverges(model, options, start, h, std::int64_t(std::ceil(seconds / h))); };
   if (!stable(row.auto_step)) return row;
   Real lo = row.auto_step, hi = 16 * row.auto_step;
   if (stable(hi)) { row.largest = -1; return row; }
@@ -69,10 +70,10 @@ int study_auto_step(int argc, char** argv) {
   int outside = 0;
   for (const std::string& path : scenes) {
     sim::LoadedScene loaded = sim::load_scene(path);
-    if (loaded.built.model.integrator == Integrator::implicit) continue;
+    if (loaded.built.options.integrator == Integrator::implicit) continue;
     io::perturb_start(loaded.built.model, loaded.built.state, 1e-4);
     const Row r = study_scene(std::filesystem::path(path).filename().string(), loaded.built.model,
-                              loaded.built.state, seconds);
+                              loaded.built.options, loaded.built.state, seconds);
     char largest[32], ratio[32];
     if (r.largest < 0) { std::snprintf(largest, sizeof largest, "> %.4g", 16 * r.auto_step); std::snprintf(ratio, sizeof ratio, "> 16"); }
     else if (r.largest == 0) { std::snprintf(largest, sizeof largest, "auto diverged"); std::snprintf(ratio, sizeof ratio, "< 1"); }

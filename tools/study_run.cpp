@@ -50,9 +50,10 @@ void run_tasks_in_parallel(std::size_t count, const std::function<void(std::size
 TimedRun timed_run(const Model& base, const State& initial, Integrator integrator, Real h, std::int64_t steps,
                    int repeats, double repeat_below) {
   Model model = base;
-  model.integrator = integrator;
-  ensure_particle_springs(model);
-  Workspace ws = make_workspace(model);
+  ensure_particle_springs(model, integrator);
+  SimOptions options;  // the default solver settings
+  options.integrator = integrator;
+  Workspace ws = make_workspace(model, options);
   TimedRun best;
   for (int r = 0; r < repeats; ++r) {
     State state = initial, scratch = initial;
@@ -61,7 +62,7 @@ TimedRun timed_run(const Model& base, const State& initial, Integrator integrato
     std::int64_t k = 0;
     bool finite = true;
     for (; k < steps; ++k) {
-      step(model, state, scratch, ws, h);
+      step(model, options, state, scratch, ws, h);
       std::swap(state, scratch);
       // A diverging run is cut short; checked sparsely so the check costs nothing measurable.
       if ((k & 1023) == 1023 && !(finite = state_is_finite(state))) { ++k; break; }

@@ -33,7 +33,7 @@ struct TimedRun {
   bool finite = true;           // every position and velocity finite at the end
 };
 
-// `steps` steps of h from `initial` with `integrator` (the model's own is ignored), in a workspace sized for it.
+// `steps` steps of h from `initial` with `integrator` and the default solver settings, in a workspace sized for them.
 // Runs that take under `repeat_below` CPU seconds are repeated up to `repeats` times and the fastest kept:
 // longer runs vary less than the spread the repeats would remove. A run that turns non-finite stops early.
 TimedRun timed_run(const Model& model, const State& initial, Integrator integrator, Real h, std::int64_t steps,

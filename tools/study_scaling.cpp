@@ -145,7 +145,7 @@ int study_scaling(int argc, char** argv) {
   io::ensure_writable_dir(dir.string());
 
   sim::LoadedScene loaded = sim::load_scene(args.positional[0]);
-  const Model& base = loaded.built.model;
+  const SimOptions& base = loaded.built.options;
   const int frames = args.has("--frames") ? parse_int("--frames", args.get("--frames"), 1)
                                           : base.end_frame - base.start_frame;
   if (frames < 1) throw UsageError("the scene has no frame to simulate; give --frames N");

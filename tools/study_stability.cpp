@@ -93,14 +93,15 @@ Real energy(const Model& m, const State& s) { return kinetic_energy(m, s.v) + sp
 // Energy within a factor 2 of its start over 100 periods of the stiffest mode (and at least 100 steps).
 bool stays_bounded(const Chain& c, Integrator integrator, Real h) {
   Model model = c.model;
-  model.integrator = integrator;
-  ensure_particle_springs(model);
-  Workspace ws = make_workspace(model);
+  ensure_particle_springs(model, integrator);
+  SimOptions options;
+  options.integrator = integrator;
+  Workspace ws = make_workspace(model, options);
   State state = c.start, scratch = c.start;
   const Real e0 = energy(model, state);
   const std::int64_t steps = std::max<std::int64_t>(100, std::llround(std::ceil(100 * 2 * pi / (c.omega_max * h))));
   for (std::int64_t k = 0; k < steps; ++k) {
-    step(model, state, scratch, ws, h);
+    step(model, options, state, scratch, ws, h);
     std::swap(state, scratch);
     if (!(energy(model, state) <= 2 * e0)) return false;
   }

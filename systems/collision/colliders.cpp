@@ -11,7 +11,7 @@ void place_colliders(const Model& m, Real time, Real h, CollisionScratch& s) {
   // The step's own start time: with timestep="auto" the steps of a frame differ in length, so a step count
   // times h would place the body at the wrong time.
   auto at = [&](const ColliderInfo& ci, const ColliderWindow& w, Real t, std::vector<Vec3>& dst) {
-    const FrameBlend b = frame_blend(ci, m.start_frame, m.fps, t);
+    const FrameBlend b = frame_blend(ci, t);
     parallel_over(ci.vertex_end - ci.vertex_begin, particle_grain,
                   [&](Index k) { dst[ci.vertex_begin + k] = collider_vertex(c, ci, w, b, ci.vertex_begin + k); });
   };

@@ -133,13 +133,14 @@ TEST_CASE("animated collider: frames are interpolated linearly per step, velocit
   write_text(dir / "s.xml", scene_with("<static name=\"body\" sequence=\"b.####.obj\"/>"));
   auto sc = load_collision_scene(dir / "s.xml");
   const Model& m = sc.built.model;
-  Workspace ws = make_workspace(m);
+  const SimOptions& o = sc.built.options;
+  Workspace ws = make_workspace(m, o);
   // Step 5 of a frame of steps_per_frame steps starts at 5/steps_per_frame of the way to frame 2.
   sim::ColliderTrack(sc.desc).prepare(m, 2, ws.collision);
-  place_colliders(m, 5 * m.dt, m.dt, ws.collision);
-  const Real expected0 = 0.24 * 5 / m.steps_per_frame, expected1 = 0.24 * 6 / m.steps_per_frame;
+  place_colliders(m, 5 * o.dt, o.dt, ws.collision);
+  const Real expected0 = 0.24 * 5 / o.steps_per_frame, expected1 = 0.24 * 6 / o.steps_per_frame;
   CHECK(ws.collision.collider_x0[0].y() == doctest::Approx(expected0));
-  CHECK((ws.collision.collider_x1[2].y() - ws.collision.collider_x0[2].y()) / m.dt == doctest::Approx(5.76));
+  CHECK((ws.collision.collider_x1[2].y() - ws.collision.collider_x0[2].y()) / o.dt == doctest::Approx(5.76));
   CHECK(ws.collision.collider_x1[1].y() == doctest::Approx(expected1));
 }
 

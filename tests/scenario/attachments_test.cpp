@@ -110,16 +110,17 @@ void check_follows(const std::string& integrator) {
   REQUIRE(m.pinned.size() == std::size_t(segments));
   State state = sc.built.state, next = state;
   const std::vector<Vec3> x0 = state.x;
-  Workspace ws = make_workspace(m);
+  const SimOptions& o = sc.built.options;
+  Workspace ws = make_workspace(m, o);
   const sim::ColliderTrack track(sc.desc);
   Real worst = 0, worst_velocity = 0;
   for (int f = 2; f <= frames; ++f) {
     track.prepare(m, f, ws.collision);
-    for (int k = 0; k < m.steps_per_frame; ++k) {
-      step(m, state, next, ws, m.dt);
+    for (int k = 0; k < o.steps_per_frame; ++k) {
+      step(m, o, state, next, ws, o.dt);
       for (Index i : m.attach_particle) {
         const Vec3 moved = next.x[i] - state.x[i];
-        worst_velocity = std::max(worst_velocity, (next.v[i] * m.dt - moved).norm() / moved.norm());
+        worst_velocity = std::max(worst_velocity, (next.v[i] * o.dt - moved).norm() / moved.norm());
       }
       std::swap(state, next);
     }

@@ -183,7 +183,7 @@ TEST_CASE("cloth pairs: two crumpled sheets report only pairs of different cloth
     in.x[i].y() += height(rng);
     out.x[i] = in.x[i] + Vec3(small(rng), small(rng), small(rng));
   }
-  Workspace wh = make_workspace(m), wb = make_workspace(bvh.built.model);
+  Workspace wh = make_workspace(m, hash.built.options), wb = make_workspace(bvh.built.model, bvh.built.options);
   build_broad_phase(m, in, out, wh.collision);
   build_broad_phase(bvh.built.model, in, out, wb.collision);
   const auto by_brute = list_proximities(m, in, out, wh.collision, BroadMode::brute);
@@ -277,7 +277,7 @@ std::vector<Vec3> sliding_strip(Real friction_a, Real friction_b) {
   for (Index i = a.particle_begin; i < a.particle_end; ++i) in.v[i] = Vec3(0, -0.5, 2);
   State out = in;
   for (Index i = 0; i < m.particle_count; ++i) out.x[i] = in.x[i] + h * in.v[i];
-  Workspace ws = make_workspace(m);
+  Workspace ws = make_workspace(m, sc.built.options);
   collide(m, in, out, ws, h);
   REQUIRE(ws.collision.contacts_found > 0);
   return std::vector<Vec3>(out.v.begin() + a.particle_begin, out.v.begin() + a.particle_end);

@@ -64,10 +64,10 @@ TEST_CASE("collisions end the step: a strain-limited sheet pinned below a sphere
   const Model& m = sc.built.model;
   REQUIRE(m.strain_limited);
   State s = sc.built.state, next = s;
-  Workspace ws = make_workspace(m);
+  Workspace ws = make_workspace(m, sc.built.options);
   Real worst = 1;
   for (int k = 0; k < 300; ++k) {
-    step(m, s, next, ws, m.dt);
+    step(m, sc.built.options, s, next, ws, sc.built.options.dt);
     std::swap(s, next);
     if (k >= 5) worst = std::min(worst, min_collider_distance(m, s.x, ws.collision, 0));
   }
@@ -100,7 +100,7 @@ TEST_CASE("cloth that starts inside a closed collider is pushed out at the bound
   int frame_out = -1;
   run_frames(sc, [&](int f, const Model& model, const State& s, const Workspace& ws) {
     const Index inside = count_inside(model, s.x, ws.collision, 0);
-    if (f == model.start_frame) at_start = count_inside(model, s.x, ws.collision, 0);
+    if (f == sc.built.options.start_frame) at_start = count_inside(model, s.x, ws.collision, 0);
     if (inside == 0 && frame_out < 0) frame_out = f;
     at_end = inside;
     lowest = 1;
@@ -136,7 +136,7 @@ static std::vector<std::array<Index, 3>> crossing_edges(bool thick_first) {
   write_text(dir / "s.xml", "<scene>" + (thick_first ? thick + thin : thin + thick) + "</scene>");
   auto sc = load_collision_scene(dir / "s.xml");
   const Model& m = sc.built.model;
-  Workspace ws = make_workspace(m);
+  Workspace ws = make_workspace(m, sc.built.options);
   const State& s = sc.built.state;
   build_broad_phase(m, s, s, ws.collision);
   return list_proximities(m, s, s, ws.collision, BroadMode::brute);

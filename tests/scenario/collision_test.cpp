@@ -135,11 +135,11 @@ TEST_CASE("restitution: a flat cloth leaves the ground with the set ratio of nor
   auto sc = load_collision_scene(dir / "s.xml");
   const Model& m = sc.built.model;
   State s = sc.built.state, next = s;
-  Workspace ws = make_workspace(m);
+  Workspace ws = make_workspace(m, sc.built.options);
   Real impact = 0, rebound = 0;
   for (int k = 0; k < 3000 && rebound == 0; ++k) {
     const Real before = centroid_v(s);
-    step(m, s, next, ws, m.dt);
+    step(m, sc.built.options, s, next, ws, sc.built.options.dt);
     std::swap(s, next);
     const Real after = centroid_v(s);
     if (before < 0 && after > 0) { impact = -before; rebound = after; }
@@ -247,7 +247,7 @@ TEST_CASE("hash, BVH and brute force find the same proximities on random configu
       in.x[i] += Vec3(0.2 * small(rng), 0.18 + 0.04 * trial + u(rng) * 0.16, 0.2 * small(rng));
       out.x[i] = in.x[i] + Vec3(small(rng), small(rng), small(rng));
     }
-    Workspace wh = make_workspace(hash.built.model), wb = make_workspace(bvh.built.model);
+    Workspace wh = make_workspace(hash.built.model, hash.built.options), wb = make_workspace(bvh.built.model, bvh.built.options);
     build_broad_phase(hash.built.model, in, out, wh.collision);
     build_broad_phase(bvh.built.model, in, out, wb.collision);
     const auto by_hash = list_proximities(hash.built.model, in, out, wh.collision, BroadMode::hash);
@@ -281,7 +281,7 @@ TEST_CASE("a cloth blown up within a step: the hash enlarges its cell to stay wi
     out.x[i] = in.x[i] + Vec3(small(rng), small(rng), small(rng));
   }
   out.x[57] += Vec3(3e4, -2e4, 1e4);  // one vertex flung 37 km within the step
-  Workspace ws = make_workspace(m);
+  Workspace ws = make_workspace(m, sc.built.options);
   build_broad_phase(m, in, out, ws.collision);
   const Index prims = Index(m.collision.prim.size());
   INFO("entries " << ws.collision.hash.entry_count << " for " << prims << " prims");
@@ -301,7 +301,7 @@ TEST_CASE("a scene without colliders and self-collision builds nothing for colli
   CHECK_FALSE(m.collision.enabled);
   CHECK(m.collision.prim.empty());
   CHECK(m.collision.particle_cloth.empty());
-  CHECK(make_workspace(m).collision.acc_count.empty());
+  CHECK(make_workspace(m, sc.built.options).collision.acc_count.empty());
 }
 
 namespace {
@@ -409,7 +409,7 @@ TEST_CASE("edge-edge CCD: a strip's edge swept through another strip within one 
       out.v[i] = Vec3(0, -0.02 / h, 0);
     }
     REQUIRE(count_intersecting_triangles(m, out.x) > 0);  // uncorrected, A's bottom edge lies through B
-    Workspace ws = make_workspace(m);
+    Workspace ws = make_workspace(m, sc.built.options);
     collide(m, in, out, ws, h);
     CHECK(count_intersecting_triangles(m, out.x) == 0);
     // Both sides moved: A's bottom edge ends above B's plane, which was pushed down.
@@ -450,7 +450,7 @@ TEST_CASE("--stats check for open collider meshes: cloth triangles crossing a co
     auto sc = load_collision_scene(dir / "s.xml");
     const Model& m = sc.built.model;
     REQUIRE_FALSE(m.collision.colliders[0].closed);
-    const Workspace ws = make_workspace(m);
+    const Workspace ws = make_workspace(m, sc.built.options);
     CHECK(count_inside(m, sc.built.state.x, ws.collision, 0) == 0);  // not defined for an open mesh
     CHECK(count_collider_crossings(m, sc.built.state.x, ws.collision, 0) == (std::string(y) == "0" ? 2 : 0));
   }

@@ -35,11 +35,11 @@ bool same_bytes(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
 // `frames` frames of the stepper from the scene's start, the reports summed; returns whether they finished.
 bool run_frames(const BuiltScene& b, State& state, FrameSteps& total, int frames = 1) {
   State scratch = state;
-  Workspace ws = make_workspace(b.model);
-  FrameStepper stepper(b.model, b.state);
+  Workspace ws = make_workspace(b.model, b.options);
+  FrameStepper stepper(b.model, b.options, b.state);
   for (int f = 0; f < frames; ++f) {
     FrameSteps r;
-    const bool ok = stepper.advance_frame(b.model, state, scratch, ws, r);
+    const bool ok = stepper.advance_frame(b.model, b.options, state, scratch, ws, r);
     total.smallest = f == 0 ? r.smallest : std::min(total.smallest, r.smallest);
     total.largest = std::max(total.largest, r.largest);
     total.taken += r.taken;
@@ -53,8 +53,8 @@ bool run_frames(const BuiltScene& b, State& state, FrameSteps& total, int frames
 
 TEST_CASE("auto picks the largest step that divides the frame and stays within stepSafety x the limit") {
   const BuiltScene b = load_auto("auto_pick", io::family_scene(3, "auto").xml);
-  const Model& m = b.model;
-  const Real target = auto_step_target(m, stable_steps(estimate_modes(m, b.state.x)));
+  const SimOptions& m = b.options;
+  const Real target = auto_step_target(m, stable_steps(estimate_modes(b.model, b.state.x)));
   CHECK(m.auto_step);
   CHECK(m.dt <= target);
   CHECK(1 / (m.fps * (m.steps_per_frame - 1)) > target);  // one step fewer a frame would exceed it
@@ -85,10 +85,10 @@ TEST_CASE("a failing step is rejected with the state untouched and below minTime
 TEST_CASE("too large a step is halved until stable and grows back with the same steps and bytes at 1 and 2 threads") {
   // Scene 7 at 8x its automatic step: past the limit, so strain jumps and the stepper halves.
   BuiltScene b = load_auto("auto_grow", io::family_scene(7, "auto").xml);
-  const Real chosen = b.model.dt;
-  b.model.dt *= 8;
-  b.model.steps_per_frame = std::max(1, b.model.steps_per_frame / 8);
-  b.model.dt = 1 / (b.model.fps * b.model.steps_per_frame);
+  const Real chosen = b.options.dt;
+  b.options.dt *= 8;
+  b.options.steps_per_frame = std::max(1, b.options.steps_per_frame / 8);
+  b.options.dt = 1 / (b.options.fps * b.options.steps_per_frame);
   io::perturb_start(b.model, b.state, 1e-4);
   State one = b.state, two = b.state;
   FrameSteps r1, r2;
@@ -102,11 +102,11 @@ TEST_CASE("too large a step is halved until stable and grows back with the same 
   }
   CAPTURE(chosen);
   CHECK(r1.rejected >= 1);
-  CHECK(r1.smallest < b.model.dt);
+  CHECK(r1.smallest < b.options.dt);
   CHECK(r1.smallest <= 1.001 * chosen * 2);  // it had to come down near the stable step
   CHECK(r1.largest > r1.smallest);
   CHECK(state_is_finite(one));
-  CHECK(one.time == doctest::Approx(10 / b.model.fps));
+  CHECK(one.time == doctest::Approx(10 / b.options.fps));
   CHECK(r1.taken == r2.taken);
   CHECK(r1.rejected == r2.rejected);
   CHECK(same_bytes(one.x, two.x));
@@ -121,13 +121,13 @@ TEST_CASE("a fixed implicit step that stretches a spring by more than strain_jum
     CAPTURE(h);
     BuiltScene b = two_particle_spring(1e6, 0, 0.01, 0.1, 0, Integrator::implicit);
     b.model.gravity = Vec3(0, -9.81, 0);
-    b.model.dt = h;
-    b.model.steps_per_frame = 1;
+    b.options.dt = h;
+    b.options.steps_per_frame = 1;
     State state = b.state, scratch = b.state;
-    Workspace ws = make_workspace(b.model);
-    FrameStepper stepper(b.model, b.state);
+    Workspace ws = make_workspace(b.model, b.options);
+    FrameStepper stepper(b.model, b.options, b.state);
     FrameSteps r;
-    REQUIRE(stepper.advance_frame(b.model, state, scratch, ws, r));
+    REQUIRE(stepper.advance_frame(b.model, b.options, state, scratch, ws, r));
     const Real expected = std::sqrt(1 + std::pow(9.81 * h * h / 0.1, 2)) - 1;  // 0.4007 and 4.8e-5
     CHECK(r.taken == 1);
     CHECK(r.rejected == 0);

@@ -181,7 +181,7 @@ ThroughRun sheets_through(int zone_iterations) {
       out.v[i] = (out.x[i] - in.x[i]) / h;
     }
   REQUIRE(count_intersecting_triangles(m, in.x) == 0);
-  Workspace ws = make_workspace(m);
+  Workspace ws = make_workspace(m, sc.built.options);
   collide(m, in, out, ws, h);
   ThroughRun r;
   r.crossings = count_intersecting_triangles(m, out.x);

@@ -85,9 +85,9 @@ TEST_CASE("panels lapped at a seam: intersections and contact pairs without the 
     if (!sew) CHECK(crossing > 0);
     else CHECK(crossing == 0);
     // One collision stage on the resting panels: contacts only where nothing is sewn.
-    Workspace ws = make_workspace(b.model);
+    Workspace ws = make_workspace(b.model, b.options);
     State out = b.state;
-    collide(b.model, b.state, out, ws, b.model.dt);
+    collide(b.model, b.state, out, ws, b.options.dt);
     if (!sew) CHECK(ws.collision.contacts_found > 0);
     else CHECK(ws.collision.contacts_found == 0);
   }

@@ -31,7 +31,7 @@ BuiltScene load_family(int seed) {
 bool diverges(const BuiltScene& b, Real h, int steps) {
   State s = b.state;
   io::perturb_start(b.model, s, 1e-4);
-  return run_diverges(b.model, s, h, steps);
+  return run_diverges(b.model, b.options, s, h, steps);
 }
 
 }  // namespace
@@ -70,19 +70,19 @@ TEST_CASE("the seeded family runs at the advised step and diverges at twice the 
   for (int seed = 0; seed < family_size; ++seed) {
     const BuiltScene b = load_family(seed);
     const StableSteps l = stable_steps(estimate_modes(b.model, b.state.x));
-    const Real limit = stable_step_limit(l, b.model.integrator);
-    const Real advised = auto_step_target(b.model, l);
+    const Real limit = stable_step_limit(l, b.options.integrator);
+    const Real advised = auto_step_target(b.options, l);
     CAPTURE(seed);
     CAPTURE(limit);
     REQUIRE(limit > 0);
-    CHECK(!run_diverges(b.model, b.state, advised, stable_steps_run));
+    CHECK(!run_diverges(b.model, b.options, b.state, advised, stable_steps_run));
     // Theory: the stiffest mode's amplitude grows by rho a step at 2x; the perturbation (1e-4 m) carries the
     // energy past the run guard's bound within the run when rho^steps > 1e6.
     const DampedModes d = estimate_modes(b.model, b.state.x);
-    const Real rho = mode_amplification(b.model.integrator, d.omega_max, d.gamma_of_stiff, 2 * limit);
+    const Real rho = mode_amplification(b.options.integrator, d.omega_max, d.gamma_of_stiff, 2 * limit);
     if (io::family_scene(seed).proportional && unstable_steps_run * std::log(rho) > std::log(1e6)) {
       ++proportional;
-      CHECK(run_diverges(b.model, b.state, 2 * limit, unstable_steps_run));
+      CHECK(run_diverges(b.model, b.options, b.state, 2 * limit, unstable_steps_run));
     }
     if (l.gamma_max > 0) ++with_damping;
   }

@@ -63,7 +63,7 @@ inline std::string kick_scene(const std::filesystem::path& sequence, int first, 
 template <class Check>
 void run_frames(const sim::LoadedScene& sc, Check&& check) {
   sim::Simulation simulation(sc);
-  while (simulation.next_frame() <= simulation.model().end_frame) {
+  while (simulation.next_frame() <= simulation.options().end_frame) {
     const sim::FrameReport r = simulation.advance_frame();
     INFO(r.divergence);
     REQUIRE_FALSE(r.diverged);

@@ -31,7 +31,7 @@ inline BuiltScene build(const SceneDesc& s) {
 inline BuiltScene two_particle_spring(Real k, Real kd, Real m, Real rest, Real stretch, Integrator integrator) {
   BuiltScene b;
   Model& md = b.model;
-  md.integrator = integrator;
+  b.options.integrator = integrator;
   md.particle_count = 2;
   md.particle_inv_mass = {0.0, 1.0 / m};
   md.pinned = {0};

@@ -20,9 +20,9 @@ inline BuiltScene two_particle_spring(Real mass0, Real mass1, Real ke, Real kd, 
   m.pinned.clear();
   for (Index i = 0; i < 2; ++i)
     if (m.particle_inv_mass[i] == 0) m.pinned.push_back(i);
-  m.cg_tolerance = 1e-12;
-  m.dt = 1e-3;
-  m.end_frame = 2;
+  s.options.solver.cg_tolerance = 1e-12;
+  s.options.dt = 1e-3;
+  s.options.end_frame = 2;
   return s;
 }
 
@@ -56,11 +56,11 @@ inline BuiltScene grid_sheet(const GridSpec& g) {
   return build(scene);
 }
 
-// Advances `steps` steps of h with the model's integrator.
-inline void run_steps(const Model& m, State& s, Workspace& ws, Real h, int steps) {
+// Advances `steps` steps of h with the options' integrator.
+inline void run_steps(const Model& m, const SimOptions& o, State& s, Workspace& ws, Real h, int steps) {
   State scratch = s;
   for (int k = 0; k < steps; ++k) {
-    step(m, s, scratch, ws, h);
+    step(m, o, s, scratch, ws, h);
     std::swap(s, scratch);
   }
 }

@@ -20,7 +20,7 @@ TEST_CASE("wind on a flat sheet: a = k_w (n.(u - v)) n / density for every free 
   s.cloths[0].density = 0.2;
   BuiltScene b = test::build(s);
   b.state.v[7] = Vec3(0, 1, 0);  // a moving particle feels the relative speed (springs still at rest length)
-  Workspace ws = make_workspace(b.model);
+  Workspace ws = make_workspace(b.model, b.options);
   eval_forces(b.model, b.state.x, b.state.v, 0, ws);
   for (Index i = 0; i < b.model.particle_count; ++i) {
     const Real un = i == 7 ? 4.0 : 5.0;
@@ -39,7 +39,7 @@ TEST_CASE("gravity, external acceleration and air damping add up, pinned particl
   BuiltScene b = test::build(s);
   for (Index i = 0; i < b.model.particle_count; ++i)
     if (i != 12) b.state.v[i] = Vec3(2, 0, 0);  // uniform motion: the springs stay unstretched
-  Workspace ws = make_workspace(b.model);
+  Workspace ws = make_workspace(b.model, b.options);
   eval_forces(b.model, b.state.x, b.state.v, 0, ws);
   CHECK(ws.f[12] == Vec3::Zero());
   const Vec3 a = ws.f[0];
@@ -109,9 +109,9 @@ static Real random_sheet_energy(Real h) {
   BuiltScene b = test::build(s);
   const Model& m = b.model;
   State state = b.state, next = state;
-  Workspace ws = make_workspace(m);
+  Workspace ws = make_workspace(m, b.options);
   for (int k = 0; k < int(std::lround(1.0 / h)); ++k) {
-    step(m, state, next, ws, h);
+    step(m, b.options, state, next, ws, h);
     std::swap(state, next);
   }
   Real e = 0;

@@ -29,10 +29,10 @@ BuiltScene windy_sheet(Integrator integrator) {
   return b;
 }
 
-State run_on_threads(const Model& m, State s, int steps, int threads) {
+State run_on_threads(const Model& m, const SimOptions& o, State s, int steps, int threads) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-  Workspace ws = make_workspace(m);
-  test::run_steps(m, s, ws, m.dt, steps);
+  Workspace ws = make_workspace(m, o);
+  test::run_steps(m, o, s, ws, o.dt, steps);
   return s;
 }
 
@@ -52,9 +52,9 @@ TEST_CASE("fused force stage: same bytes as separate passes, at 1, 2 and 3 threa
     Model& m = b.model;
     REQUIRE(m.spring_layout == SpringLayout::blocked);
     m.fuse_particle_pass = false;
-    const State reference = run_on_threads(m, b.state, 3, 1);
+    const State reference = run_on_threads(m, b.options, b.state, 3, 1);
     m.fuse_particle_pass = true;
-    for (int t = 1; t <= 3; ++t) CHECK(same_bytes(run_on_threads(m, b.state, 3, t), reference));
+    for (int t = 1; t <= 3; ++t) CHECK(same_bytes(run_on_threads(m, b.options, b.state, 3, t), reference));
     // The state moved: the comparison is not of two copies of the start.
     CHECK((reference.x[500] - b.state.x[500]).norm() > 1e-9);
   }
@@ -125,10 +125,10 @@ TEST_CASE("fused force stage: particles of no chunk fall freely") {
   REQUIRE(build_spring_chunks(m, 256));
   const Index free_particle = m.particle_count - 10;  // far from the kept springs, not pinned
   REQUIRE(m.spring_chunk_close_offset.back() > m.spring_chunk_close_offset[m.spring_chunk_offset.size() - 1]);
-  const State after = run_on_threads(m, b.state, 1, 2);
+  const State after = run_on_threads(m, b.options, b.state, 1, 2);
   const Vec3 v0 = b.state.v[free_particle];
-  const Vec3 v1 = v0 + m.dt * (m.gravity - m.air_damping * v0);  // symplectic Euler, no spring force
+  const Vec3 v1 = v0 + b.options.dt * (m.gravity - m.air_damping * v0);  // symplectic Euler, no spring force
   CHECK(std::memcmp(after.v[free_particle].data(), v1.data(), sizeof(Vec3)) == 0);
-  const Vec3 x1 = b.state.x[free_particle] + m.dt * v1;
+  const Vec3 x1 = b.state.x[free_particle] + b.options.dt * v1;
   CHECK(std::memcmp(after.x[free_particle].data(), x1.data(), sizeof(Vec3)) == 0);
 }

@@ -17,10 +17,10 @@ using namespace clothsim::test;
 namespace {
 
 // One implicit step; its health is the record it logs, and the StepResult it returns must agree with it.
-Workspace::SolveRecord implicit_step(const Model& m, const State& in, State& out, Workspace& ws, Real h) {
+Workspace::SolveRecord implicit_step(const BuiltScene& s, const State& in, State& out, Workspace& ws, Real h) {
   ws.solve_log.clear();
   if (ws.solve_log.capacity() == 0) ws.solve_log.reserve(1);
-  const StepResult result = integrate_implicit(m, in, out, ws, h);
+  const StepResult result = integrate_implicit(s.model, s.options.solver, in, out, ws, h);
   REQUIRE(ws.solve_log.size() == 1);
   CHECK(result.failed == ws.solve_log.back().failed());
   return ws.solve_log.back();
@@ -34,8 +34,8 @@ BuiltScene stiff_sheet(Preconditioner pc) {
   g.pins = {0, 7};
   g.integrator = Integrator::implicit;
   BuiltScene s = grid_sheet(g);
-  s.model.preconditioner = pc;
-  s.model.cg_tolerance = 1e-6;
+  s.options.solver.preconditioner = pc;
+  s.options.solver.cg_tolerance = 1e-6;
   return s;
 }
 
@@ -43,28 +43,28 @@ BuiltScene stiff_sheet(Preconditioner pc) {
 
 TEST_CASE("a CG solve stopped at its cap is reported as not converged") {
   BuiltScene s = stiff_sheet(Preconditioner::jacobi);
-  s.model.cg_max_iterations = 3;
-  Workspace ws = make_workspace(s.model);
+  s.options.solver.cg_max_iterations = 3;
+  Workspace ws = make_workspace(s.model, s.options);
   State out = s.state;
-  const Workspace::SolveRecord r = implicit_step(s.model, s.state, out, ws, 1.0 / 120);
+  const Workspace::SolveRecord r = implicit_step(s, s.state, out, ws, 1.0 / 120);
   CHECK(r.cg_iterations == 3);
-  CHECK(r.cg_residual > s.model.cg_tolerance);
+  CHECK(r.cg_residual > s.options.solver.cg_tolerance);
   CHECK_FALSE(r.converged);
   CHECK(r.failed());
-  s.model.cg_max_iterations = 1000;
-  const Workspace::SolveRecord ok = implicit_step(s.model, s.state, out, ws, 1.0 / 120);
+  s.options.solver.cg_max_iterations = 1000;
+  const Workspace::SolveRecord ok = implicit_step(s, s.state, out, ws, 1.0 / 120);
   CHECK(ok.converged);
   CHECK_FALSE(ok.failed());
 }
 
 TEST_CASE("the Cholesky preconditioner solves a step in one CG iteration and keeps its factor while it helps") {
   BuiltScene s = stiff_sheet(Preconditioner::cholesky);
-  Workspace ws = make_workspace(s.model);
+  Workspace ws = make_workspace(s.model, s.options);
   REQUIRE(ws.cholesky);
   const Real h = 1.0 / 120;
   State out = s.state;
   // A fresh factor of the step's own matrix: CG's first iterate is the solution up to round-off.
-  Workspace::SolveRecord r = implicit_step(s.model, s.state, out, ws, h);
+  Workspace::SolveRecord r = implicit_step(s, s.state, out, ws, h);
   CHECK(r.factorizations == 1);
   CHECK(r.cg_iterations == 1);
   CHECK(r.cg_residual < 1e-10);
@@ -73,7 +73,7 @@ TEST_CASE("the Cholesky preconditioner solves a step in one CG iteration and kee
   int factorizations = 0, iterations = 0;
   for (int k = 0; k < 10; ++k) {
     std::swap(s.state, out);
-    r = implicit_step(s.model, s.state, out, ws, h);
+    r = implicit_step(s, s.state, out, ws, h);
     factorizations += r.factorizations;
     iterations += r.cg_iterations;
     CHECK(r.converged);
@@ -82,7 +82,7 @@ TEST_CASE("the Cholesky preconditioner solves a step in one CG iteration and kee
   CHECK(iterations >= 10);
   MESSAGE(factorizations << " factorisations and " << iterations << " CG iterations in 10 steps");
   // A new step size refactors.
-  r = implicit_step(s.model, out, s.state, ws, h / 2);
+  r = implicit_step(s, out, s.state, ws, h / 2);
   CHECK(r.factorizations == 1);
   CHECK(r.cg_iterations == 1);
   CHECK(workspace_bytes(ws) > 0);
@@ -93,8 +93,8 @@ TEST_CASE("the Cholesky-preconditioned implicit run is byte-identical at 1 and 2
   for (int t = 1; t <= 2; ++t) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
     BuiltScene s = stiff_sheet(Preconditioner::cholesky);
-    Workspace ws = make_workspace(s.model);
-    run_steps(s.model, s.state, ws, 1.0 / 60, 12);
+    Workspace ws = make_workspace(s.model, s.options);
+    run_steps(s.model, s.options, s.state, ws, 1.0 / 60, 12);
     runs[t - 1] = s.state;
   }
   REQUIRE(runs[0].x.size() == runs[1].x.size());

@@ -45,7 +45,7 @@ BuiltScene sheet_on_plane(Real h) {
 TEST_CASE("a sheet starting inside its thickness over a plane rises at collider_separation_speed a pass, then rests") {
   const Real h = 1e-3;
   BuiltScene b = sheet_on_plane(h);
-  Workspace ws = make_workspace(b.model);
+  Workspace ws = make_workspace(b.model, b.options);
   State out = b.state;
   // Two proximity passes a step (collisionIterations 2), each at most 0.1 m/s x 1 ms: 0.2 mm a step, so 4.9 mm
   // take 25 steps.
@@ -53,7 +53,7 @@ TEST_CASE("a sheet starting inside its thickness over a plane rises at collider_
   REQUIRE(passes == 2);
   const Real per_step = passes * collider_separation_speed * h;
   for (int k = 0; k < 40; ++k) {
-    step(b.model, b.state, out, ws, h);
+    step(b.model, b.options, b.state, out, ws, h);
     Real rise_min = 1, rise_max = 0;
     for (Index i = 0; i < b.model.particle_count; ++i) {
       const Real rise = out.x[i].y() - b.state.x[i].y();

@@ -24,8 +24,8 @@ namespace {
 // 0.1 m of stretch, at t = 1 s, by backward Euler with step h; exact: rest + 0.1 cos(omega t).
 Real implicit_error(Real h) {
   BuiltScene s = two_particle_spring(0, 1, 100, 0, 1, 1.1, Integrator::implicit);
-  Workspace ws = make_workspace(s.model);
-  run_steps(s.model, s.state, ws, h, int(std::lround(1.0 / h)));
+  Workspace ws = make_workspace(s.model, s.options);
+  run_steps(s.model, s.options, s.state, ws, h, int(std::lround(1.0 / h)));
   return std::abs(s.state.x[1].x() - (1 + 0.1 * std::cos(10.0)));
 }
 
@@ -38,7 +38,7 @@ BuiltScene damped_implicit_sheet(int nx, int ny, Real cg_tolerance) {
   g.pins = {0, nx - 1};
   g.integrator = Integrator::implicit;
   BuiltScene s = grid_sheet(g);
-  s.model.cg_tolerance = cg_tolerance;
+  s.options.solver.cg_tolerance = cg_tolerance;
   return s;
 }
 
@@ -91,7 +91,7 @@ TEST_CASE("one implicit step equals a dense solve of Baraff & Witkin eq. 15-16 o
     CAPTURE(int(pc));
     BuiltScene s = damped_implicit_sheet(5, 4, 1e-13);
     Model& m = s.model;
-    m.preconditioner = pc;
+    s.options.solver.preconditioner = pc;
     const Index n = m.particle_count;
     // A stretched, moving state, so the transverse terms and the damping Jacobian all matter.
     for (Index i = 0; i < n; ++i) {
@@ -100,13 +100,13 @@ TEST_CASE("one implicit step equals a dense solve of Baraff & Witkin eq. 15-16 o
       if (m.particle_inv_mass[i] > 0) s.state.v[i] = Vec3(std::sin(0.3 * i), std::cos(0.7 * i), 0.5 * std::sin(i));
     }
     const Real h = 0.02;
-    Workspace ws = make_workspace(m);
+    Workspace ws = make_workspace(m, s.options);
     if (pc == Preconditioner::multigrid) {
       ws.multigrid = build_multigrid_levels(m, 1);
       REQUIRE(ws.multigrid.levels.size() >= 2);
     }
     State out = s.state;
-    step(m, s.state, out, ws, h);
+    step(m, s.options, s.state, out, ws, h);
 
     const auto [A, rhs] = dense_system(m, s.state, h);
     const Eigen::VectorXd dv = A.ldlt().solve(rhs);
@@ -134,12 +134,12 @@ TEST_CASE("implicit stays bounded on a stiff hanging sheet at 100x the symplecti
   const StableSteps limits = stable_steps(estimate_omega_max(s.model, s.state.x));
   const Real h = 100 * limits.symplectic;
   MESSAGE("omega_max " << limits.omega_max << " rad/s, symplectic limit " << limits.symplectic << " s, h " << h);
-  Workspace ws = make_workspace(s.model);
+  Workspace ws = make_workspace(s.model, s.options);
   const int steps = int(std::ceil(2.0 / h));  // two seconds of swinging and settling
   Real worst_strain = 0;
   State scratch = s.state;
   for (int k = 0; k < steps; ++k) {
-    step(s.model, s.state, scratch, ws, h);
+    step(s.model, s.options, s.state, scratch, ws, h);
     std::swap(s.state, scratch);
     REQUIRE(state_is_finite(s.state));
     worst_strain = std::max(worst_strain, max_spring_strain(s.model, s.state.x));
@@ -153,8 +153,8 @@ TEST_CASE("implicit stays bounded on a stiff hanging sheet at 100x the symplecti
   // The same sheet and step under symplectic Euler explodes within a few steps: the step is really past it.
   BuiltScene sym = grid_sheet(GridSpec{g.nx, g.ny, g.size, g.stiffness, g.damping, g.bend_scale, g.density, 0, g.pins,
                                        g.gravity, Integrator::symplectic});
-  Workspace sym_ws = make_workspace(sym.model);
-  run_steps(sym.model, sym.state, sym_ws, h, 10);
+  Workspace sym_ws = make_workspace(sym.model, sym.options);
+  run_steps(sym.model, sym.options, sym.state, sym_ws, h, 10);
   CHECK(!(max_spring_strain(sym.model, sym.state.x) < 1));
 }
 
@@ -162,12 +162,12 @@ TEST_CASE("Newton iterations reduce the backward-Euler residual of a step on a s
   // Free end swinging sideways at 2 m/s: the spring turns during the step, so one linear solve is inexact.
   auto residual = [](int newton) {
     BuiltScene s = two_particle_spring(0, 0.1, 400, 0, 1, 1.3, Integrator::implicit);
-    s.model.newton_iterations = newton;
+    s.options.solver.newton_iterations = newton;
     s.state.v[1] = Vec3(0, 2, 0);
-    Workspace ws = make_workspace(s.model);
+    Workspace ws = make_workspace(s.model, s.options);
     State out = s.state;
     const Real h = 0.05;
-    step(s.model, s.state, out, ws, h);
+    step(s.model, s.options, s.state, out, ws, h);
     // g(dv) = M dv - h f(x + h (v + dv), v + dv): zero for the exact backward-Euler step.
     const Vec3 f = -spring_force(out.x[0], out.x[1], out.v[0], out.v[1], 1, 400, 0);
     return (0.1 * (out.v[1] - s.state.v[1]) - h * f).norm();
@@ -183,22 +183,22 @@ TEST_CASE("CG with the 3x3 block-Jacobi preconditioner takes the iterations of a
   // Masses spread over four decades make the plain CG slow; the block-Jacobi preconditioner must undo that.
   BuiltScene s = damped_implicit_sheet(8, 6, 1e-8);
   Model& m = s.model;
-  m.preconditioner = Preconditioner::jacobi;
+  s.options.solver.preconditioner = Preconditioner::jacobi;
   for (Index i = 0; i < m.particle_count; ++i) {
     if (m.particle_inv_mass[i] > 0) m.particle_inv_mass[i] *= std::pow(1e-4, std::sin(1.3 * i) * 0.5 + 0.5);
     s.state.x[i] *= 1.1;
     s.state.x[i].z() += 0.03 * std::cos(2.1 * i);
   }
   const Real h = 0.02;
-  Workspace ws = make_workspace(m);
+  Workspace ws = make_workspace(m, s.options);
   State out = s.state;
-  step(m, s.state, out, ws, h);
+  step(m, s.options, s.state, out, ws, h);
   REQUIRE(ws.solve_log.size() == 1);
   const int ours = ws.solve_log[0].cg_iterations;
 
   const auto [A, rhs] = dense_system(m, s.state, h);
-  const int block_jacobi = dense_pcg_iterations(A, rhs, m.cg_tolerance, true);
-  const int plain = dense_pcg_iterations(A, rhs, m.cg_tolerance, false);
+  const int block_jacobi = dense_pcg_iterations(A, rhs, s.options.solver.cg_tolerance, true);
+  const int plain = dense_pcg_iterations(A, rhs, s.options.solver.cg_tolerance, false);
   MESSAGE("CG iterations: clothsim " << ours << ", dense block-Jacobi " << block_jacobi << ", dense plain " << plain);
   CHECK(std::abs(ours - block_jacobi) <= 1);  // the same algorithm, up to round-off at the last iteration
   CHECK(ours < plain / 2);

@@ -28,10 +28,10 @@ Vec3 free_fall(Integrator integrator, Real h, int n, const Vec3& v0, Vec3& com0)
   BuiltScene b = test::build(scene);
   for (Vec3& v : b.state.v) v = v0;
   com0 = centre_of_mass(b.model, b.state);
-  Workspace ws = make_workspace(b.model);
+  Workspace ws = make_workspace(b.model, b.options);
   State scratch = b.state;
   for (int k = 0; k < n; ++k) {
-    step(b.model, b.state, scratch, ws, h);
+    step(b.model, b.options, b.state, scratch, ws, h);
     std::swap(b.state, scratch);
   }
   return centre_of_mass(b.model, b.state);
@@ -47,11 +47,11 @@ Real spring_closed_form(Real k, Real kd, Real m, Real rest, Real stretch, Real t
 Real spring_error(Integrator integrator, Real kd, Real h, Real t_end) {
   const Real k = 100, m = 1, rest = 1, stretch = 0.1;
   BuiltScene b = test::two_particle_spring(k, kd, m, rest, stretch, integrator);
-  Workspace ws = make_workspace(b.model);
+  Workspace ws = make_workspace(b.model, b.options);
   State scratch = b.state;
   const int n = int(std::lround(t_end / h));
   for (int s = 0; s < n; ++s) {
-    step(b.model, b.state, scratch, ws, h);
+    step(b.model, b.options, b.state, scratch, ws, h);
     std::swap(b.state, scratch);
   }
   return std::abs(b.state.x[1].x() - spring_closed_form(k, kd, m, rest, stretch, n * h));

@@ -58,7 +58,7 @@ TEST_CASE("a grid model holds its hand-counted bytes: no spring CSR, no per-spri
   REQUIRE(m.spring_chunk_offset.size() == 2);
   CHECK(model_bytes(m) == std::size_t(model_hand_count(g, one_chunk_schedule)));
   CHECK(state_bytes(b.state) == std::size_t(48 * g.particles));
-  CHECK(workspace_bytes(make_workspace(m)) == std::size_t(48 * g.particles));  // f and normals
+  CHECK(workspace_bytes(make_workspace(m, b.options)) == std::size_t(48 * g.particles));  // f and normals
 }
 
 TEST_CASE("a parameter varying by spring kind costs a palette and a byte a spring, kernels that read the CSR get it") {
@@ -108,9 +108,10 @@ TEST_CASE("the multigrid levels of an 8 x 8 grid hold their hand-counted bytes")
   // The workspace adds the cycle's output z (24 bytes a particle) to the implicit scratch.
   SceneDesc s = test::grid_scene(8, 8, 1.0, Integrator::implicit);
   s.simulation.preconditioner = Preconditioner::jacobi;
-  const Workspace jacobi = make_workspace(test::build(s).model);
+  const BuiltScene plain = test::build(s);
+  const Workspace jacobi = make_workspace(plain.model, plain.options);
   s.simulation.preconditioner = Preconditioner::multigrid;
-  const Model with_mg = test::build(s).model;
-  CHECK(workspace_bytes(make_workspace(with_mg)) ==
-        workspace_bytes(jacobi) + 24 * 64 + multigrid_bytes(build_multigrid_levels(with_mg)));
+  const BuiltScene with_mg = test::build(s);
+  CHECK(workspace_bytes(make_workspace(with_mg.model, with_mg.options)) ==
+        workspace_bytes(jacobi) + 24 * 64 + multigrid_bytes(build_multigrid_levels(with_mg.model)));
 }

@@ -32,18 +32,18 @@ SmallSheet small_sheet(int nx, int ny, Index coarsest) {
   g.integrator = Integrator::implicit;
   SmallSheet sh{grid_sheet(g), {}};
   Model& m = sh.s.model;
-  m.preconditioner = Preconditioner::multigrid;
-  m.cg_tolerance = 1e-12;
+  sh.s.options.solver.preconditioner = Preconditioner::multigrid;
+  sh.s.options.solver.cg_tolerance = 1e-12;
   for (Index i = 0; i < m.particle_count; ++i) {
     sh.s.state.x[i] *= 1.15;
     sh.s.state.x[i].z() += 0.02 * std::sin(1.7 * i);
     if (m.particle_inv_mass[i] > 0) sh.s.state.v[i] = Vec3(std::sin(0.3 * i), std::cos(0.7 * i), 0.5 * std::sin(i));
   }
-  sh.ws = make_workspace(m);
+  sh.ws = make_workspace(m, sh.s.options);
   sh.ws.multigrid = build_multigrid_levels(m, coarsest);
   // One step builds the spring blocks, the block-Jacobi inverses and every level's operator at the state above.
   State out = sh.s.state;
-  step(m, sh.s.state, out, sh.ws, sh.h);
+  step(m, sh.s.options, sh.s.state, out, sh.ws, sh.h);
   return sh;
 }
 
@@ -168,11 +168,11 @@ TEST_CASE("the multigrid cycle is a symmetric positive definite preconditioner w
 TEST_CASE("multigrid CG takes far fewer iterations than block-Jacobi on a 64 x 64 hanging sheet, same answer") {
   auto run = [](Preconditioner pc, std::vector<int>& iterations) {
     BuiltScene s = peer_sheet(64, pc, 1e-6);
-    Workspace ws = make_workspace(s.model);
+    Workspace ws = make_workspace(s.model, s.options);
     State scratch = s.state;
     for (int k = 0; k < 6; ++k) {
       ws.solve_log.clear();
-      step(s.model, s.state, scratch, ws, s.model.dt);
+      step(s.model, s.options, s.state, scratch, ws, s.options.dt);
       std::swap(s.state, scratch);
       iterations.push_back(ws.solve_log.at(0).cg_iterations);
     }
@@ -205,8 +205,8 @@ TEST_CASE("multigrid: the same bytes at 1, 2 and 3 threads") {
   auto run = [](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     BuiltScene s = peer_sheet(72, Preconditioner::multigrid, 1e-2);
-    Workspace ws = make_workspace(s.model);
-    run_steps(s.model, s.state, ws, s.model.dt, 6);
+    Workspace ws = make_workspace(s.model, s.options);
+    run_steps(s.model, s.options, s.state, ws, s.options.dt, 6);
     return s.state;
   };
   const State one = run(1), two = run(2), three = run(3);

@@ -39,7 +39,7 @@ TEST_CASE("spring system: the chain's highest frequency matches 2 sqrt(k/m) sin(
   CHECK(b.model.spring_count == n + 1);
   // Axial stiffness matrix of the free masses by central differences of the accelerations (exact up to
   // round-off: the force is linear along the axis), then its eigenvalues w^2.
-  Workspace ws = make_workspace(b.model);
+  Workspace ws = make_workspace(b.model, b.options);
   Eigen::MatrixXd a(n, n);
   const Real du = 1e-6;
   for (int j = 0; j < n; ++j) {

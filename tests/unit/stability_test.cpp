@@ -43,11 +43,11 @@ Real dense_omega_max(const Model& m, const std::vector<Vec3>& x) {
 
 // Energy of the undamped spring (kinetic + potential) after each of `steps` steps.
 std::vector<Real> energies(BuiltScene s, Real h, int steps) {
-  Workspace ws = make_workspace(s.model);
+  Workspace ws = make_workspace(s.model, s.options);
   std::vector<Real> e;
   State scratch = s.state;
   for (int k = 0; k < steps; ++k) {
-    step(s.model, s.state, scratch, ws, h);
+    step(s.model, s.options, s.state, scratch, ws, h);
     std::swap(s.state, scratch);
     e.push_back(mechanical_energy(s.model, s.state, s.state.x));  // no gravity: the reference does not matter
   }

@@ -65,7 +65,6 @@ Model one_stitch(Real w) {
   Model m;
   m.particle_count = 3;
   m.particle_inv_mass = {1.0, 0.5, 2.0};
-  m.dt = 0.01;
   m.stitch_count = 1;
   m.stitch_a = {0};
   m.stitch_b = {1};
@@ -128,11 +127,11 @@ TEST_CASE("a tube of two panels sewn round: the gap closes no faster than sewSpe
     const Model& m = b.model;
     REQUIRE(m.stitch_count == 10);
     CHECK(largest_gap(m, b.state.x) == doctest::Approx(gap));
-    Workspace ws = make_workspace(m);
+    Workspace ws = make_workspace(m, b.options);
     State scratch = b.state;
     Real fastest = 0, smallest_allowed_margin = 1;
     for (int k = 0; k < 1000; ++k) {  // 1 s
-      step(m, b.state, scratch, ws, m.dt);
+      step(m, b.options, b.state, scratch, ws, b.options.dt);
       std::swap(b.state, scratch);
       const Real t = b.state.time;
       // No gap closes ahead of the target: |g| >= |g0| - speed t - tolerance.
@@ -154,10 +153,10 @@ TEST_CASE("sewing gives the same bytes at 1 and 2 threads") {
   for (int threads : {1, 2}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     BuiltScene b = sewn_tube(40, 30, 0.1, Integrator::implicit, 0.2);  // 2,400 particles: split over threads
-    Workspace ws = make_workspace(b.model);
+    Workspace ws = make_workspace(b.model, b.options);
     State scratch = b.state;
     for (int k = 0; k < 10; ++k) {
-      step(b.model, b.state, scratch, ws, b.model.dt);
+      step(b.model, b.options, b.state, scratch, ws, b.options.dt);
       std::swap(b.state, scratch);
     }
     results.push_back(b.state);

@@ -35,11 +35,11 @@ GridSpec soft_sheet(Real max_strain, Integrator integrator) {
 // Largest strain seen after any step over `steps` steps of h.
 Real worst_strain(const GridSpec& g, Real h, int steps, bool check_velocity = false) {
   BuiltScene s = grid_sheet(g);
-  Workspace ws = make_workspace(s.model);
+  Workspace ws = make_workspace(s.model, s.options);
   State scratch = s.state;
   Real worst = 0;
   for (int k = 0; k < steps; ++k) {
-    step(s.model, s.state, scratch, ws, h);
+    step(s.model, s.options, s.state, scratch, ws, h);
     if (check_velocity) {
       // The correction moved positions and velocities together: x' = x + h v' still holds.
       Real mismatch = 0;
@@ -153,12 +153,12 @@ struct LimitComparison {
 // deterministic, so the tests assert them, never times.
 LimitComparison compare_with_jacobi(BuiltScene s, int steps, Real tau, Real h = 0) {
   const Model& m = s.model;
-  if (h == 0) h = m.dt;
-  Workspace ws = make_workspace(m);
+  if (h == 0) h = s.options.dt;
+  Workspace ws = make_workspace(m, s.options);
   State out = s.state;
   LimitComparison r;
   for (int k = 0; k < steps; ++k) {
-    integrate_implicit(m, s.state, out, ws, h);
+    integrate_implicit(m, s.options.solver, s.state, out, ws, h);
     State jacobi = out;
     const int j = jacobi_strain_limit(m, jacobi, h);
     r.jacobi_sweeps += j;
@@ -202,7 +202,7 @@ TEST_CASE("strain limit on one spring: a pinned end stays, the free end moves ba
   s.model.strain_limited = true;
   s.model.spring_max_strain = ParamField(0.2);
   build_spring_colours(s.model);  // no cloth, so no tether: the sweep does it
-  Workspace ws = make_workspace(s.model);
+  Workspace ws = make_workspace(s.model, s.options);
   const int it = apply_strain_limit(s.model, s.state, ws, 0.1);
   CHECK(it == 1);  // one spring: the first sweep projects exactly (no over-relaxation)
   CHECK(s.state.x[0] == Vec3(0, 0, 0));
@@ -222,7 +222,7 @@ TEST_CASE("a chain pinned at one end and stretched: the tethers alone give the p
   REQUIRE(s.model.tether_particle.size() == std::size_t(n));
   CHECK(s.model.tether_length[n - 1] == doctest::Approx(1.2 * n));
   CHECK(s.model.spring_colour_offset.size() == 3);  // a chain takes two colours
-  Workspace ws = make_workspace(s.model);
+  Workspace ws = make_workspace(s.model, s.options);
   const int it = apply_strain_limit(s.model, s.state, ws, h);
   CHECK(it == 0);  // no sweep: the tethers left every spring at its limit
   for (Index i = 0; i <= n; ++i) {
@@ -236,7 +236,7 @@ TEST_CASE("a free spring is projected in one sweep, each end half way, a free ch
   // Two equal masses 1.5 apart, limit 1.2: each end moves 0.15 towards the other (Provot's split by inverse mass).
   BuiltScene one = chain(1, 1.5, 0.2, false);
   CHECK(one.model.tether_particle.empty());  // no pin, no tether
-  Workspace ws1 = make_workspace(one.model);
+  Workspace ws1 = make_workspace(one.model, one.options);
   CHECK(apply_strain_limit(one.model, one.state, ws1, 0.1) == 1);
   CHECK(one.state.x[0].x() == doctest::Approx(0.15));
   CHECK(one.state.x[1].x() == doctest::Approx(1.35));
@@ -245,7 +245,7 @@ TEST_CASE("a free spring is projected in one sweep, each end half way, a free ch
   // mass and the momentum (velocities start at zero) stay where they were, to round-off.
   const int n = 8;
   BuiltScene s = chain(n, 1.5, 0.2, false);
-  Workspace ws = make_workspace(s.model);
+  Workspace ws = make_workspace(s.model, s.options);
   const int it = apply_strain_limit(s.model, s.state, ws, 0.1);
   MESSAGE("free chain of " << n << " springs: " << it << " sweeps");
   CHECK(it > 1);
@@ -292,8 +292,8 @@ TEST_CASE("the strain limit gives the same bytes at 1, 2 and 3 threads") {
   for (int threads : {1, 2, 3}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     BuiltScene s = dropped_sheet(64);
-    Workspace ws = make_workspace(s.model);
-    run_steps(s.model, s.state, ws, s.model.dt, 6);
+    Workspace ws = make_workspace(s.model, s.options);
+    run_steps(s.model, s.options, s.state, ws, s.options.dt, 6);
     CHECK(ws.strain_iterations_total > 6);
     results.push_back(s.state);
   }
