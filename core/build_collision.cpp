@@ -210,6 +210,8 @@ void make_collision_workspace(const Model& m, CollisionScratch& s) {
   s.acc_dx.assign(3 * std::size_t(m.particle_count), 0);
   s.acc_count.assign(m.particle_count, 0);
   s.deep_collider.assign(m.particle_count, -1);
+  // A first capacity for the contact buffer; a pass that finds more grows it (systems/collision/contacts.h).
+  s.contacts.resize(std::min<std::size_t>(std::size_t(m.particle_count), 4096));
   s.collider_frames.assign(c.colliders.size(), {});
   for (std::size_t k = 0; k < c.colliders.size(); ++k) {
     const ColliderInfo& ci = c.colliders[k];

@@ -177,6 +177,21 @@ struct ZoneScratch {
   ZoneFigures figures;
 };
 
+// One pair a detection pass found, for the response to consume (systems/collision/contacts.h).
+enum class ContactKind : std::uint8_t {
+  vertex_triangle,  // a: cloth vertex, b: prim (cloth or collider triangle); w: the triangle's barycentrics
+  cloth_edges,      // a, b: cloth edges; w[0], w[1]: the closest points' parameters s, t along them
+  collider_vertex,  // a: cloth triangle, b: collider vertex; w: the triangle's barycentrics
+  collider_edge,    // a: cloth edge, b: collider edge; w[0], w[1]: s, t
+};
+struct Contact {
+  ContactKind kind;
+  Index a, b;
+  Real w[3];
+  Vec3 n;  // unit direction the pair must separate along, towards a's side (b's for collider_vertex)
+  Real d;  // end-of-step distance along n, m (negative: crossed)
+};
+
 struct CollisionScratch {
   std::vector<Vec3> collider_x0, collider_x1;  // collider mesh vertices at the start and end of the step
   // The animated colliders' frames the steps read, filled by the frame loop (sim/collider_track.h); one per
@@ -191,6 +206,10 @@ struct CollisionScratch {
   std::vector<std::int64_t> acc_dv, acc_dx;  // (3 * particle_count)
   std::vector<std::int32_t> acc_count;       // (particle_count)
   std::int64_t contacts_found = 0;           // contacts of the first pass, summed over steps
+  // The pairs of the latest detection pass (systems/collision/contacts.h): [0, contact_count) of a buffer that
+  // grows to the most one pass has found
+  std::vector<Contact> contacts;
+  Index contact_count = 0;
   ZoneScratch zones;
   // Cloth particles found inside a closed collider mesh: that collider, or -1 (particle_count); filled by the
   // first step this workspace takes (systems/collision/push_out.h).

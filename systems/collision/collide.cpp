@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <mutex>
 
+#include "systems/collision/contacts.h"
 #include "systems/collision/continuous_pairs.h"
 #include "systems/collision/impact_zones.h"
 #include "systems/collision/proximity_pairs.h"
@@ -48,18 +48,12 @@ void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h)
 
 std::vector<std::array<Index, 3>> list_proximities(const Model& m, const State& in, const State& out,
                                                    CollisionScratch& s, BroadMode mode) {
+  const Index count = find_proximities(m, in, out, s, mode);
   std::vector<std::array<Index, 3>> found;
-  std::mutex lock;
-  auto add = [&](Index kind, Index a, Index b) {
-    std::lock_guard g(lock);
-    found.push_back({kind, a, b});
-  };
-  for_each_proximity(
-      m, in, out, s, mode,
-      [&](Index i, Index prim, const PrimCorners&, const TriangleProximity&, Real) { add(0, i, prim); },
-      [&](Index e, Index f, const EdgeProximity&, Real) { add(1, e, f); },
-      [&](Index t, Index v, const TriangleProximity&, const Vec3&, Real) { add(2, t, v); },
-      [&](Index e, Index g, const EdgeProximity&, Real) { add(3, e, g); });
+  for (Index k = 0; k < count; ++k) {
+    const Contact& c = s.contacts[std::size_t(k)];
+    found.push_back({Index(c.kind), c.a, c.b});
+  }
   std::sort(found.begin(), found.end());
   return found;
 }

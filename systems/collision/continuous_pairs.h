@@ -24,15 +24,16 @@ inline bool edge_edge_crossing(const Vec3 x0[4], const Vec3 x1[4], Real thick, E
   return std::isfinite(d) && d < thick;
 }
 
-// Every edge pair of for_each_edge_pair that met within the thickness: on_edge(p, fixed, x0, x1, px, n, d, mu), p
-// the four particles (collider vertices for p[2], p[3] when `fixed`), mu the mean friction of the two sides. A
+// Every edge pair of for_each_edge_pair that met within the thickness: on_edge(e, f, fixed, px, n, d), e the cloth
+// edge and f the other (a collider edge when `fixed`), px.s and px.t where they met, n and d as edge_edge_crossing
+// gives them. A
 // cloth edge that came from inside a collider is left to the proximity pass, which sends it out. Only pairs whose
 // boxes come within the thickness and whose cloth particles pass keep(particles, count) are tested.
 template <class Keep, class OnEdge>
 void for_each_edge_crossing(const Model& m, const State& in, const State& out, const CollisionScratch& s,
                             BroadMode mode, Keep&& keep, OnEdge&& on_edge) {
   const CollisionModel& c = m.collision;
-  auto edge_pair = [&](Index, const Aabb& q, const Index* p, const Vec3* const* px0, const Vec3* const* px1,
+  auto edge_pair = [&](Index e, const Aabb& q, const Index* p, const Vec3* const* px0, const Vec3* const* px1,
                        bool fixed, Index f) {
     const Vec3 x0[4] = {*px0[0], *px0[1], *px0[2], *px0[3]}, x1[4] = {*px1[0], *px1[1], *px1[2], *px1[3]};
     Aabb qi = q;
@@ -51,9 +52,7 @@ void for_each_edge_crossing(const Model& m, const State& in, const State& out, c
       const Vec3 nv = collider_edge_normal(c, s, f);
       if (n.dot(nv) < -0.2 * nv.norm()) return;
     }
-    const Real mu = fixed ? collider_friction(m, p[0], c.mesh_tri_collider[c.mesh_edge_first_tri[f]])
-                          : cloth_pair_friction(m, p[0], p[2]);
-    on_edge(p, fixed, x0, x1, px, n, d, mu);
+    on_edge(e, f, fixed, px, n, d);
   };
   for_each_edge_pair(m, in, out, s, mode, edge_pair);
 }
@@ -112,8 +111,8 @@ void for_each_crossing(const Model& m, const State& in, const State& out, const 
   for_each_edge_crossing(m, in, out, s, mode, keep, on_edge);
 }
 
-// The continuous pass, last (Bridson et al. 2002 §6.2): every crossing of for_each_crossing is sent back to the
-// side it came from, with the end-of-step distance along that direction restored to the thickness by an
+// The continuous pass, last (Bridson et al. 2002 §6.2): every crossing of for_each_crossing (through the contact
+// buffer, systems/collision/contacts.h) is sent back to the side it came from, with the end-of-step distance along that direction restored to the thickness by an
 // inelastic impulse and a position-only push spread over the cloth particles by their weights. Returns the
 // contacts it responded to.
 std::int64_t collide_continuous(const Model& model, const State& in, State& out, CollisionScratch& s,

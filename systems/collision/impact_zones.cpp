@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "systems/collision/continuous_pairs.h"
+#include "systems/collision/contacts.h"
 #include "systems/parallel.h"
 
 namespace clothsim {
@@ -168,7 +168,7 @@ void count_zones(ZoneScratch& z) {
     }
 }
 
-// Each pass finds the pairs the continuous pass would still respond to (for_each_crossing), merges their nodes (cloth
+// Each pass finds the pairs the continuous pass would still respond to (find_crossings), merges their nodes (cloth
 // particles; collider vertices as node particle_count + v) into zones, and moves the zones that grew, until a pass
 // finds none. It stops early, the step counted as unresolved, when a pass merges nothing (every pair found lies
 // within one zone) or after model.collision.zone_iterations passes. The pairs are those of the continuous pass, met
@@ -178,45 +178,29 @@ void count_zones(ZoneScratch& z) {
 void resolve_impact_zones(const Model& m, const State& in, State& out, CollisionScratch& s, BroadMode mode, Real h) {
   const CollisionModel& c = m.collision;
   ZoneScratch& z = s.zones;
-  const Index pc = m.particle_count;
   reset_zones(z);
   ++z.figures.steps;
   bool clean = false;
   for (int pass = 0; pass < c.zone_iterations; ++pass) {
     build_broad_phase(m, in, out, s);
-    std::atomic<std::int64_t> pairs{0}, links{0};
-    auto add = [&](const Index* nodes, int count) {
-      pairs.fetch_add(1, std::memory_order_relaxed);
-      if (const int merged = add_zone_pair(z, nodes, count)) links.fetch_add(merged, std::memory_order_relaxed);
-    };
+    std::atomic<std::int64_t> links{0};
     // After the first pass, a pair none of whose cloth particles is in a zone has not moved since that pass
     // found it apart (collider vertices move the same in every pass): only pairs touching a zone are tested. A
-    // particle this pass adds to a zone has not moved yet, so whether a thread sees its flag does not matter.
+    // particle this pass adds to a zone has not moved yet.
     auto moved = [&](const Index* p, int count) {
       if (pass == 0) return true;
       for (int k = 0; k < count; ++k)
         if (std::atomic_ref<std::uint8_t>(z.flag[p[k]]).load(std::memory_order_relaxed) & zone_member) return true;
       return false;
     };
-    for_each_crossing(
-        m, in, out, s, mode, moved,
-        [&](Index i, Index, const PrimCorners& t, const Real*, const Vec3&, Real) {
-          const Index base = t.cloth ? 0 : pc;
-          const Index nodes[4] = {i, base + t.p[0], base + t.p[1], base + t.p[2]};
-          add(nodes, 4);
-        },
-        [&](Index t, Index v, const Real*, const Vec3&, Real) {
-          const Index* p = &m.tri_index[3 * t];
-          const Index nodes[4] = {pc + v, p[0], p[1], p[2]};
-          add(nodes, 4);
-        },
-        [&](const Index* p, bool fixed, const Vec3*, const Vec3*, const EdgeProximity&, const Vec3&, Real, Real) {
-          const Index base = fixed ? pc : 0;
-          const Index nodes[4] = {p[0], p[1], base + p[2], base + p[3]};
-          add(nodes, 4);
-        });
+    const Index pairs = find_crossings(m, in, out, s, mode, moved);
+    parallel_over(pairs, contact_grain, [&](Index k) {
+      Index nodes[4];
+      contact_nodes(m, s.contacts[std::size_t(k)], nodes);
+      if (const int merged = add_zone_pair(z, nodes, 4)) links.fetch_add(merged, std::memory_order_relaxed);
+    });
     ++z.figures.passes;
-    if (pairs.load() == 0) {
+    if (pairs == 0) {
       clean = true;
       break;
     }

@@ -142,8 +142,9 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
   for_each_edge_pair(m, in, out, s, mode, edge_pair);
 }
 
-// The collide stage's proximity pass (Bridson et al. 2002 §7): every pair for_each_proximity finds gets its
-// response (systems/collision/response.h) added to the accumulators of s.
+// The collide stage's proximity pass (Bridson et al. 2002 §7): every pair for_each_proximity finds goes into the
+// contact buffer (systems/collision/contacts.h), and each gets its response (systems/collision/response.h) added
+// to the accumulators of s.
 void respond_proximities(const Model& model, const State& in, const State& out, CollisionScratch& s, BroadMode mode,
                          Real h);
 
