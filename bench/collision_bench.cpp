@@ -68,8 +68,8 @@ void BM_BvhRefit(benchmark::State& st) {
   Workspace ws = make_workspace(s.built.model, s.built.options);
   build_broad_phase(s.built.model, s.in, s.out, ws.collision);
   for (auto _ : st) {
-    refit_bvh(s.built.model.collision, ws.collision);
-    benchmark::DoNotOptimize(ws.collision.node_box.data());
+    refit_bvh(s.built.model.collision.cloth_tree, ws.collision.prim_box, ws.collision.cloth_node_box);
+    benchmark::DoNotOptimize(ws.collision.cloth_node_box.data());
   }
   set_counters(st, s.built.model);
 }

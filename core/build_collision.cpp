@@ -188,12 +188,15 @@ void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& 
       c.prim.push_back(t);
       centroid.push_back((x[m.tri_index[3 * t]] + x[m.tri_index[3 * t + 1]] + x[m.tri_index[3 * t + 2]]) / 3);
     }
+  c.cloth_prim_count = Index(c.prim.size());
+  if (c.broad_phase == BroadPhase::bvh) build_bvh_topology(centroid, 0, c.cloth_tree);
+  centroid.clear();
   for (Index t = 0; t < Index(c.mesh_tri_collider.size()); ++t) {
     c.prim.push_back(m.tri_count + t);
     const Index* v = &c.mesh_tri_index[3 * t];
     centroid.push_back((c.mesh_x[v[0]] + c.mesh_x[v[1]] + c.mesh_x[v[2]]) / 3);
   }
-  if (c.broad_phase == BroadPhase::bvh) build_bvh_topology(centroid, c);
+  build_bvh_topology(centroid, c.cloth_prim_count, c.collider_tree);
   bind_attachments(scene, x, m);
 }
 
@@ -204,7 +207,8 @@ void make_collision_workspace(const Model& m, CollisionScratch& s) {
   s.collider_x1 = c.mesh_x;
   s.collider_x0 = c.mesh_x;
   s.prim_box.resize(c.prim.size());
-  s.node_box.resize(c.node_child.size() / 2);
+  s.cloth_node_box.resize(std::size_t(c.cloth_tree.node_count()));
+  s.collider_node_box.resize(std::size_t(c.collider_tree.node_count()));
   s.hash.prim_cells.assign(c.prim.size() + 1, 0);
   s.acc_dv.assign(3 * std::size_t(m.particle_count), 0);
   s.acc_dx.assign(3 * std::size_t(m.particle_count), 0);

@@ -25,6 +25,6 @@ void build_collision(const SceneDesc& scene, const std::vector<ColliderMeshes>& 
 void make_collision_workspace(const Model& model, CollisionScratch& scratch);
 
 // The BVH over the broad-phase prims (core/bvh_build.cpp): median split on the longest axis of the centroids.
-void build_bvh_topology(const std::vector<Vec3>& centroid, CollisionModel& c);
+void build_bvh_topology(const std::vector<Vec3>& centroid, Index first_slot, BvhTree& tree);
 
 }  // namespace clothsim

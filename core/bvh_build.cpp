@@ -5,10 +5,10 @@
 
 namespace clothsim {
 
-// A binary AABB tree over the prims, one prim a leaf, built once from the initial centroids (median split on
+// A binary AABB tree over slots first_slot + [0, centroid count), one slot a leaf, built once from the initial centroids (median split on
 // the longest axis) and stored breadth first, so a refit can update one level at a time in parallel, deepest
 // level first (systems/collision/bvh.cpp).
-void build_bvh_topology(const std::vector<Vec3>& centroid, CollisionModel& c) {
+void build_bvh_topology(const std::vector<Vec3>& centroid, Index first_slot, BvhTree& c) {
   struct Range { Index begin, end; };
   std::vector<Index> order(centroid.size());
   std::iota(order.begin(), order.end(), 0);
@@ -21,7 +21,7 @@ void build_bvh_topology(const std::vector<Vec3>& centroid, CollisionModel& c) {
     const Index first_child = Index(c.node_child.size() / 2 + level.size());
     for (const Range& r : level) {
       if (r.end - r.begin == 1) {
-        c.node_child.push_back(~order[r.begin]);  // leaf: ~slot in c.prim
+        c.node_child.push_back(~(first_slot + order[r.begin]));  // leaf: ~slot in CollisionModel::prim
         c.node_child.push_back(-1);
         continue;
       }

@@ -34,6 +34,15 @@ struct ColliderInfo {
   bool closed = false;                     // every edge has two triangles: the inside test applies
 };
 
+// An AABB tree over a range of broad-phase slots, built once (core/bvh_build.cpp); node n: children
+// node_child[2n], node_child[2n+1]; a leaf holds ~slot as a negative value in node_child[2n]. Nodes are in
+// breadth-first order, level l at level_offset[l].
+struct BvhTree {
+  std::vector<Index> node_child;       // (2 * node count)
+  std::vector<Index> level_offset;     // (levels + 1)
+  Index node_count() const { return Index(node_child.size() / 2); }
+};
+
 // Where a sequence collider stands at time t (s since the start frame): between its stored frames f0 and f1,
 // weight w on f1. From the step count, not a summed time, so every run lands on the same values.
 struct FrameBlend {
@@ -87,13 +96,14 @@ struct CollisionModel {
   // they are neighbours, not contacts: a sewn seam is not an intersection (docs/garments.md).
   std::vector<Index> seam_offset, seam_index;  // CSR (particle_count + 1, or 0 without stitches)
 
-  // --- broad-phase primitives: the tri_contact cloth triangles, then collider triangles
-  // prim id p < tri_count is cloth triangle p; p >= tri_count is collider triangle p - tri_count.
+  // --- broad-phase primitives: the tri_contact cloth triangles (slots [0, cloth_prim_count)), then collider
+  // triangles; prim id p < tri_count is cloth triangle p; p >= tri_count is collider triangle p - tri_count.
   std::vector<Index> prim;             // (prim count)
-  // BVH over prims, built once; node n: children node_child[2n], node_child[2n+1]; a leaf holds ~prim index
-  // as a negative value in node_child[2n]. Nodes are in breadth-first order, level l at level_offset[l].
-  std::vector<Index> node_child;       // (2 * node count)
-  std::vector<Index> level_offset;     // (levels + 1)
+  Index cloth_prim_count = 0;
+  // The two sides' broad phases are separate: the cloth's (the scene's hash, or cloth_tree) is rebuilt every
+  // pass, the colliders' tree refitted once a step, when they move (systems/collision/broad_phase.h).
+  BvhTree cloth_tree;                  // over the cloth slots; only for broadPhase="bvh"
+  BvhTree collider_tree;               // over the collider slots; empty without collider meshes
 
   // Rigid impact zones run in this scene: a broad phase (continuous passes) and zone passes on.
   bool impact_zones() const { return !prim.empty() && iterations > 0 && zone_iterations > 0; }
@@ -198,7 +208,8 @@ struct CollisionScratch {
   // collider, sized for sequences only (colliders)
   std::vector<ColliderWindow> collider_frames;
   std::vector<Aabb> prim_box;           // swept, thickness-inflated box per prim (prim count)
-  std::vector<Aabb> node_box;           // BVH node boxes (node count)
+  std::vector<Aabb> cloth_node_box;     // cloth_tree's node boxes (its node count)
+  std::vector<Aabb> collider_node_box;  // collider_tree's node boxes (its node count)
   Aabb query_bounds;                    // union of the cloth vertices' swept boxes
   HashScratch hash;
   // Per-particle accumulators in fixed point (fixed_scale units): integer sums are exact and associative, so

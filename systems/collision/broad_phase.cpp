@@ -4,17 +4,26 @@
 
 namespace clothsim {
 
-void build_broad_phase(const Model& m, const State& in, const State& out, CollisionScratch& s) {
+namespace {
+// Swept, thickness-inflated boxes of slots [begin, end).
+void prim_boxes(const Model& m, const State& in, const State& out, CollisionScratch& s, Index begin, Index end) {
   const CollisionModel& c = m.collision;
   const Real inflate = c.max_thickness;
-  parallel_over(Index(c.prim.size()), 1024, [&](Index slot) {
+  parallel_over(end - begin, 1024, [&](Index k) {
+    const Index slot = begin + k;
     const PrimCorners t = corners(m, in, out, s, c.prim[slot]);
     Aabb b = swept_box(t.x0[0], t.x1[0]);
-    for (int k = 1; k < 3; ++k) { grow(b, t.x0[k]); grow(b, t.x1[k]); }
+    for (int j = 1; j < 3; ++j) { grow(b, t.x0[j]); grow(b, t.x1[j]); }
     b.lo.array() -= inflate;
     b.hi.array() += inflate;
     s.prim_box[slot] = b;
   });
+}
+}  // namespace
+
+void build_cloth_broad_phase(const Model& m, const State& in, const State& out, CollisionScratch& s) {
+  const CollisionModel& c = m.collision;
+  prim_boxes(m, in, out, s, 0, c.cloth_prim_count);
   // Bounds of every cloth vertex's swept box: min/max are exact, so the reduction order does not matter.
   s.query_bounds = tbb::parallel_reduce(
       tbb::blocked_range<Index>(0, m.particle_count, particle_grain),
@@ -24,8 +33,15 @@ void build_broad_phase(const Model& m, const State& in, const State& out, Collis
         return b;
       },
       [](Aabb a, const Aabb& b) { grow(a, b.lo); grow(a, b.hi); return a; });
-  if (c.broad_phase == BroadPhase::bvh) refit_bvh(c, s);
+  if (c.broad_phase == BroadPhase::bvh) refit_bvh(c.cloth_tree, s.prim_box, s.cloth_node_box);
   else build_spatial_hash(c, s);
+}
+
+void build_broad_phase(const Model& m, const State& in, const State& out, CollisionScratch& s) {
+  const CollisionModel& c = m.collision;
+  prim_boxes(m, in, out, s, c.cloth_prim_count, Index(c.prim.size()));
+  refit_bvh(c.collider_tree, s.prim_box, s.collider_node_box);
+  build_cloth_broad_phase(m, in, out, s);
 }
 
 }  // namespace clothsim

@@ -1,7 +1,8 @@
 #pragma once
 // The collide stage's broad phase: swept, thickness-inflated boxes of every prim (cloth triangles, then collider
-// mesh triangles), one spatial hash or BVH over them per pass, and the candidate walks the proximity and continuous
-// passes share (Bridson, Fedkiw & Anderson 2002 §6: every pair whose swept boxes meet is tested). The walks are
+// mesh triangles); over the cloth's, the scene's spatial hash or BVH, rebuilt every pass; over the colliders', their
+// own BVH, refitted once a step (collider vertices do not move between passes); and the candidate walks the
+// proximity and continuous passes share (Bridson, Fedkiw & Anderson 2002 §6: every pair whose swept boxes meet is tested). The walks are
 // templates so that each pass's per-pair test inlines into the loop over candidates.
 #include "core/model.h"
 #include "systems/collision/bvh.h"
@@ -13,8 +14,11 @@ namespace clothsim {
 // Which broad phase a walk queries: the scene's hash or BVH, or every prim (the tests' reference).
 enum class BroadMode { hash, bvh, brute };
 
-// Swept, thickness-inflated prim boxes and the query bounds, then the scene's broad phase.
+// Both sides for the step's collider positions (s.collider_x0, collider_x1) and the cloth's in and out.
 void build_broad_phase(const Model& model, const State& in, const State& out, CollisionScratch& s);
+// The cloth's side alone, after a pass has moved the cloth: swept, thickness-inflated cloth prim boxes, the query
+// bounds, then the scene's hash or the cloth tree.
+void build_cloth_broad_phase(const Model& model, const State& in, const State& out, CollisionScratch& s);
 
 // Cloth vertices, triangles or edges a task of the contact passes takes: each costs a broad-phase query.
 inline constexpr Index contact_grain = 256;
@@ -22,17 +26,19 @@ inline constexpr Index contact_grain = 256;
 inline Aabb swept_box(const Vec3& a0, const Vec3& a1) { return {a0.cwiseMin(a1), a0.cwiseMax(a1)}; }
 inline void grow(Aabb& b, const Vec3& p) { b.lo = b.lo.cwiseMin(p); b.hi = b.hi.cwiseMax(p); }
 
-// Calls visit(slot) for every prim slot whose box overlaps q.
+// Calls visit(slot) for every prim slot whose box overlaps q: the cloth's, then the colliders'.
 template <class Visit>
 void for_each_candidate(const Model& m, const CollisionScratch& s, BroadMode mode, const Aabb& q, Visit&& visit) {
+  const CollisionModel& c = m.collision;
   switch (mode) {
     case BroadMode::hash: query_spatial_hash(s, q, visit); break;
-    case BroadMode::bvh: query_bvh(m.collision, s, q, visit); break;
+    case BroadMode::bvh: query_bvh(c.cloth_tree, s.cloth_node_box, q, visit); break;
     case BroadMode::brute:
-      for (Index slot = 0; slot < Index(m.collision.prim.size()); ++slot)
+      for (Index slot = 0; slot < Index(c.prim.size()); ++slot)
         if (boxes_overlap(q, s.prim_box[slot])) visit(slot);
-      break;
+      return;
   }
+  query_bvh(c.collider_tree, s.collider_node_box, q, visit);
 }
 
 // Corners of a broad-phase prim at the start and end of the step.

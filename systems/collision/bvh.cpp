@@ -4,7 +4,7 @@
 
 namespace clothsim {
 
-void refit_bvh(const CollisionModel& c, CollisionScratch& s) {
+void refit_bvh(const BvhTree& c, const std::vector<Aabb>& prim_box, std::vector<Aabb>& node_box) {
   const Index levels = Index(c.level_offset.size()) - 1;
   for (Index l = levels - 1; l >= 0; --l) {
     const Index begin = c.level_offset[l], end = c.level_offset[l + 1];
@@ -12,12 +12,12 @@ void refit_bvh(const CollisionModel& c, CollisionScratch& s) {
       const Index n = begin + k;
       const Index a = c.node_child[2 * n];
       if (a < 0) {
-        s.node_box[n] = s.prim_box[~a];
+        node_box[n] = prim_box[~a];
       } else {
-        const Aabb& l0 = s.node_box[a];
-        const Aabb& l1 = s.node_box[c.node_child[2 * n + 1]];
-        s.node_box[n].lo = l0.lo.cwiseMin(l1.lo);
-        s.node_box[n].hi = l0.hi.cwiseMax(l1.hi);
+        const Aabb& l0 = node_box[a];
+        const Aabb& l1 = node_box[c.node_child[2 * n + 1]];
+        node_box[n].lo = l0.lo.cwiseMin(l1.lo);
+        node_box[n].hi = l0.hi.cwiseMax(l1.hi);
       }
     });
   }

@@ -38,7 +38,7 @@ void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h)
   // still found crossings, the impact zones take over: a step that ends clean costs nothing more.
   bool crossings_left = false;
   for (int pass = 0; broad && pass < c.iterations; ++pass) {
-    if (pass > 0) build_broad_phase(m, in, out, s);
+    if (pass > 0) build_cloth_broad_phase(m, in, out, s);
     crossings_left = collide_continuous(m, in, out, s, mode, h) > 0;
     if (!crossings_left) break;
   }

@@ -182,7 +182,7 @@ void resolve_impact_zones(const Model& m, const State& in, State& out, Collision
   ++z.figures.steps;
   bool clean = false;
   for (int pass = 0; pass < c.zone_iterations; ++pass) {
-    build_broad_phase(m, in, out, s);
+    build_cloth_broad_phase(m, in, out, s);
     std::atomic<std::int64_t> links{0};
     // After the first pass, a pair none of whose cloth particles is in a zone has not moved since that pass
     // found it apart (collider vertices move the same in every pass): only pairs touching a zone are tested. A

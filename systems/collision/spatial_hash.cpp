@@ -74,7 +74,7 @@ std::int64_t cells_of(const CollisionScratch& s, Index slot, Real inv) {
 // the chosen cell is left in s.hash.prim_cells (every count fits: their sum is within the budget), so the hash
 // does not count them again.
 Real choose_cell_and_count(const CollisionModel& c, CollisionScratch& s) {
-  const Index prims = Index(c.prim.size());
+  const Index prims = c.cloth_prim_count;
   const std::int64_t entry_budget = 64 * std::int64_t(prims) + 65536;
   std::vector<Index>& counts = s.hash.prim_cells;
   Real inv = 1 / c.cell_size;
@@ -99,7 +99,7 @@ Real choose_cell_and_count(const CollisionModel& c, CollisionScratch& s) {
 
 void build_spatial_hash(const CollisionModel& c, CollisionScratch& s) {
   HashScratch& hs = s.hash;
-  const Index prims = Index(c.prim.size());
+  const Index prims = c.cloth_prim_count;
   const Real inv = choose_cell_and_count(c, s);
   hs.inv_cell = inv;
   const Index entries = exclusive_scan(hs.prim_cells, prims);
