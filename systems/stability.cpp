@@ -149,6 +149,11 @@ DampedModes estimate_modes(const Model& m, std::span<const Vec3> x_rest) {
   d.gamma_of_stiff = op.rayleigh(m.spring_kd, w) + diagonal;
   d.gamma_max = op.top(m.spring_kd, w, mode_iterations, mode_tolerance) + diagonal;
   d.omega_of_damped = std::sqrt(op.rayleigh(m.spring_ke, w));
+  Real ratio = std::numeric_limits<Real>::infinity();
+  for (Index s = 0; s < m.spring_count; ++s)
+    if (m.spring_ke[s] > 0 && m.particle_inv_mass[m.spring_a[s]] + m.particle_inv_mass[m.spring_b[s]] > 0)
+      ratio = std::min(ratio, m.spring_kd[s] / m.spring_ke[s]);
+  d.euler_floor = ratio + (d.omega_max > 0 ? m.air_damping / (d.omega_max * d.omega_max) : 0);
   return d;
 }
 
@@ -198,7 +203,8 @@ StableSteps stable_steps(const DampedModes& d) {
     return std::min(mode_step_limit(i, d.omega_max, d.gamma_of_stiff),
                     mode_step_limit(i, d.omega_of_damped, d.gamma_max));
   };
-  return {d.omega_max, d.gamma_max, limit(Integrator::euler), limit(Integrator::symplectic), limit(Integrator::rk4)};
+  return {d.omega_max, d.gamma_max, std::min(limit(Integrator::euler), d.euler_floor), limit(Integrator::symplectic),
+          limit(Integrator::rk4)};
 }
 
 StableSteps stable_steps(Real omega_max) {

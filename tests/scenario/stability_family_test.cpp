@@ -2,10 +2,13 @@
 // diverging, and at twice its estimated limit diverges where the estimate is an exact mode (docs/stability.md).
 #include <doctest/doctest.h>
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
+#include <complex>
 
 #include "io/scene_family.h"
 #include "systems/auto_step.h"
+#include "systems/spring_jacobian.h"
 #include "systems/stability.h"
 #include "tests/support/collision_scene.h"
 #include "tests/support/scene_fixtures.h"
@@ -34,7 +37,63 @@ bool diverges(const BuiltScene& b, Real h, int steps) {
   return run_diverges(b.model, b.options, s, h, steps);
 }
 
+// Exact explicit-Euler limit of the scene linearised at x: the step map is I + h S with S = [[0, I], [-M^-1 K,
+// -M^-1 C]], so each eigenvalue lambda of S needs |1 + h lambda| <= 1, h <= -2 Re(lambda) / |lambda|^2. Neutral
+// modes (lambda = 0: rigid motion, sideways motion of a straight spring) are left out.
+Real dense_euler_limit(const Model& m, const std::vector<Vec3>& x) {
+  std::vector<Index> slot(m.particle_count, -1);
+  Index free = 0;
+  for (Index i = 0; i < m.particle_count; ++i)
+    if (m.particle_inv_mass[i] > 0) slot[i] = free++;
+  const Index n = 3 * free;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n), C = K, S = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  for (Index s = 0; s < m.spring_count; ++s) {
+    const Index a = m.spring_a[s], b = m.spring_b[s];
+    const SpringJacobian j = spring_jacobian(x[a], x[b], m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]);
+    for (auto [D, block] : {std::pair{&K, Mat3(j.dfdx)}, std::pair{&C, Mat3(j.dfdv)}}) {
+      if (slot[a] >= 0) D->block<3, 3>(3 * slot[a], 3 * slot[a]) += block;
+      if (slot[b] >= 0) D->block<3, 3>(3 * slot[b], 3 * slot[b]) += block;
+      if (slot[a] >= 0 && slot[b] >= 0) {
+        D->block<3, 3>(3 * slot[a], 3 * slot[b]) -= block;
+        D->block<3, 3>(3 * slot[b], 3 * slot[a]) -= block;
+      }
+    }
+  }
+  S.topRightCorner(n, n).setIdentity();
+  for (Index i = 0; i < m.particle_count; ++i)
+    if (slot[i] >= 0)
+      for (Index r = 3 * slot[i]; r < 3 * slot[i] + 3; ++r) {
+        S.row(n + r).head(n) = -m.particle_inv_mass[i] * K.row(r);
+        S.row(n + r).tail(n) = -m.particle_inv_mass[i] * C.row(r);
+        S(n + r, n + r) -= m.air_damping;
+      }
+  const Eigen::VectorXcd lambda = Eigen::EigenSolver<Eigen::MatrixXd>(S, false).eigenvalues();
+  const Real scale = lambda.cwiseAbs().maxCoeff();
+  Real limit = INFINITY;
+  for (const std::complex<Real>& l : lambda)
+    if (std::abs(l) > 1e-6 * scale) limit = std::min(limit, -2 * l.real() / std::norm(l));
+  return limit;
+}
+
 }  // namespace
+
+TEST_CASE("explicit Euler's floor (kd/ke)_min + c / w_max^2 holds where the probes do not: family scene 6") {
+  // Bend springs at 0.1 ke with the same kd: kd/ke differs between springs, and no probe is an exact mode. At
+  // rest (unperturbed) every spring is straight at its rest length, so K = sum ke n n^T, as the estimate takes it.
+  const auto dir = scratch_dir("family_floor");
+  write_text(dir / "scene.xml", io::family_scene(6).xml);
+  const BuiltScene b = load_collision_scene(dir / "scene.xml").built;
+  const DampedModes d = estimate_modes(b.model, b.state.x);
+  const Real probes = std::min(mode_step_limit(Integrator::euler, d.omega_max, d.gamma_of_stiff),
+                               mode_step_limit(Integrator::euler, d.omega_of_damped, d.gamma_max));
+  const Real exact = dense_euler_limit(b.model, b.state.x);
+  const Real floor = stable_steps(d).euler;
+  MESSAGE("explicit Euler limit: probes " << probes << " s, exact " << exact << " s, floor " << floor << " s");
+  CHECK(floor == doctest::Approx(0.0918126 / 3434.82).epsilon(1e-5));  // its kd / ke, no air damping
+  CHECK(floor <= exact);           // 2.673e-5 s against 2.778e-5 s: 4% below
+  CHECK(exact < 1.05 * floor);
+  CHECK(probes > 1.15 * exact);    // 3.299e-5 s: 19% above, which auto's stepSafety 0.7 had to absorb
+}
 
 TEST_CASE("damped oscillator limits: closed forms at their edges, RK4's undamped 2 sqrt(2)/omega") {
   // Symplectic Euler on u'' = -w^2 u - g u': trace 2 - h^2 w^2 - h g, determinant 1 - h g (Jury): h^2 w^2 + 2 h g < 4.
