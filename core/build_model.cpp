@@ -282,7 +282,6 @@ Workspace make_workspace(const Model& model, const SimOptions& options) {
     for (auto* buf : {&ws.dv, &ws.cg_x, &ws.cg_r, &ws.cg_p, &ws.cg_q}) buf->assign(model.particle_count, Vec3::Zero());
     ws.cg_precond.assign(model.particle_count, Sym3{});
     ws.spring_block.assign(model.spring_count, Sym3{});
-    ws.solve_log.reserve(std::size_t(options.steps_per_frame));
     if (options.solver.preconditioner == Preconditioner::multigrid) {
       ws.cg_z.assign(model.particle_count, Vec3::Zero());
       ws.multigrid = build_multigrid_levels(model);

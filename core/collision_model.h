@@ -163,7 +163,7 @@ struct HashScratch {
   std::vector<Index> bucket_fill;       // (table_size)
 };
 
-// What the impact zones did, summed over steps until read (--stats clears them each frame).
+// What the impact zones did, summed over steps (--stats writes them per frame).
 struct ZoneFigures {
   std::int64_t steps = 0;       // steps that ran the zones (crossings left after the continuous passes)
   std::int64_t passes = 0;      // detection passes of those steps
@@ -171,6 +171,15 @@ struct ZoneFigures {
   std::int64_t zone_nodes = 0;  // nodes in them (cloth vertices and collider vertices)
   std::int64_t largest = 0;     // most nodes in one zone
   std::int64_t unresolved = 0;  // steps that stopped with pairs left (the cap, or a pass that merged nothing)
+
+  void add(const ZoneFigures& o) {
+    steps += o.steps;
+    passes += o.passes;
+    zones += o.zones;
+    zone_nodes += o.zone_nodes;
+    largest = std::max(largest, o.largest);
+    unresolved += o.unresolved;
+  }
 };
 
 // Rigid impact zones (Provot 1997; Bridson, Fedkiw & Anderson 2002 §6.3; systems/collision/impact_zones.h). A node is
@@ -184,7 +193,6 @@ struct ZoneScratch {
   std::vector<Index> offset;         // CSR of the refitted zones' members, ascending: (node count + 1)
   std::vector<Index> member;         // (node count)
   Index zone_count = 0;              // zones refitted by this pass
-  ZoneFigures figures;
 };
 
 // One pair a detection pass found, for the response to consume (systems/collision/contacts.h).
@@ -216,7 +224,6 @@ struct CollisionScratch {
   // the averaged response is the same bytes whatever the order the threads add in.
   std::vector<std::int64_t> acc_dv, acc_dx;  // (3 * particle_count)
   std::vector<std::int32_t> acc_count;       // (particle_count)
-  std::int64_t contacts_found = 0;           // contacts of the first pass, summed over steps
   // The pairs of the latest detection pass (systems/collision/contacts.h): [0, contact_count) of a buffer that
   // grows to the most one pass has found
   std::vector<Contact> contacts;

@@ -156,24 +156,7 @@ struct Workspace {
   CholeskyFactorPtr cholesky;
   Real cholesky_h = 0;              // the step the factor was built for; 0 = no valid factor
   int cholesky_last_iterations = 0;  // CG iterations of the last solve it preconditioned
-  // The implicit step's health (systems/integrate_implicit.h): what it did, and whether its result can be
-  // trusted. failed() is the flag a step controller rejects the step on.
-  struct SolveRecord {
-    int cg_iterations = 0;         // summed over the Newton iterations of the step
-    Real cg_residual = 0;          // |r|/|b| at the end of the last solve
-    int factorizations = 0;        // numeric Cholesky factorisations (preconditioner="cholesky")
-    bool converged = true;         // every linear solve reached cg_tolerance (none stopped at cg_max_iterations)
-    bool newton_diverged = false;  // a Newton correction left a larger backward-Euler residual than the one before
-    // The solver's own health; the strain a step made is checked by the frame loop (sim/frame_stepper.h).
-    bool failed() const { return !converged || newton_diverged; }
-  };
-  std::vector<SolveRecord> solve_log;  // one per step; capacity steps_per_frame, the caller clears it
-  long long cg_iterations_total = 0;
-  int strain_iterations_total = 0;     // strain-limit sweeps (systems/strain_limit.h): it needs no scratch
-  int force_evaluations = 0;       // counted for the studies
-  double seconds_forces = 0, seconds_integrate = 0;
   CollisionScratch collision;      // sized only when model.collision.enabled
-  double seconds_collide = 0;
 };
 
 // Sizes the workspace for a model stepped with these options; nothing inside step allocates afterwards.

@@ -20,9 +20,10 @@ void count_accepted(FrameSteps& report, Real h) {
   report.largest = std::max(report.largest, h);
 }
 
-// The implicit solve's record of the step just taken, when it logged one.
-Workspace::SolveRecord last_solve(const Workspace& ws) {
-  return ws.solve_log.empty() ? Workspace::SolveRecord{} : ws.solve_log.back();
+// Adds a step's figures, accepted or rejected, to the frame's.
+void record(FrameSteps& report, const StepResult& result, Integrator integrator) {
+  report.counts.add(result.counts);
+  if (integrator == Integrator::implicit) report.solves.push_back(result.solve);
 }
 }  // namespace
 
@@ -57,6 +58,7 @@ void FrameStepper::fixed_frame(const Model& m, const SimOptions& o, State& state
   Real strain = check ? max_spring_strain(m, state.x) : 0;
   for (int k = 0; k < o.steps_per_frame; ++k) {
     const StepResult result = step(m, o, state, scratch, ws, o.dt);
+    record(report, result, o.integrator);
     std::swap(state, scratch);
     count_accepted(report, o.dt);
     if (!check) continue;
@@ -65,7 +67,7 @@ void FrameStepper::fixed_frame(const Model& m, const SimOptions& o, State& state
                                 : strain_after > strain + strain_jump ? StepVerdict::strain_jump
                                                                       : StepVerdict::none;
     if (verdict != StepVerdict::none && report.failed++ == 0)
-      report.first_failure = {verdict, o.dt, strain, strain_after, last_solve(ws)};
+      report.first_failure = {verdict, o.dt, strain, strain_after, result.solve};
     strain = strain_after;
   }
 }
@@ -85,6 +87,7 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
   while (pos < (std::int64_t(o.steps_per_frame) << level_)) {
     const Real h = current_step(o);
     const StepResult result = step(m, o, state, scratch, ws, h);
+    record(report, result, o.integrator);
     StepVerdict verdict = StepVerdict::none;
     Real strain_after = strain;
     if (result.failed) verdict = StepVerdict::failed_solve;

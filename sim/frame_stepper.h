@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/model.h"
+#include "systems/step_result.h"
 
 namespace clothsim::sim {
 
@@ -18,7 +19,7 @@ struct StepFailure {
   StepVerdict verdict = StepVerdict::none;
   Real step = 0;                             // s
   Real strain_before = 0, strain_after = 0;  // largest spring strain (|d| - rest)/rest at the step's ends
-  Workspace::SolveRecord solve;              // the implicit solve's record
+  SolveRecord solve;                         // the implicit solve's record
 };
 
 // Steps of one frame, for --stats and the run's warning.
@@ -27,6 +28,8 @@ struct FrameSteps {
   Real smallest = 0, largest = 0;  // s, accepted steps
   int failed = 0;                  // accepted steps that failed their check (fixed timestep only)
   StepFailure first_failure;       // the first of them
+  std::vector<SolveRecord> solves; // implicit: every solve of the frame, rejected steps' included, in order
+  StepCounts counts;               // what every step of the frame did, rejected ones included
 };
 
 // The checks: a step fails when its result failed (the implicit solve stopped at cgMaxIterations or a Newton

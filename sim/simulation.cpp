@@ -48,11 +48,11 @@ std::string describe_failure(const SolverOptions& solver, const StepFailure& f, 
 FrameReport Simulation::advance_frame() {
   FrameReport r;
   r.frame = next_frame_++;
-  ws_.solve_log.clear();
   bool stepped = true;
   if (r.frame > options_.start_frame) {
     track_.prepare(model_, r.frame, ws_.collision);
     stepped = stepper_.advance_frame(model_, options_, state_, scratch_, ws_, r.steps);
+    totals_.add(r.steps.counts);
   }
   // The divergence guard (docs/stability.md): every frame is checked before anyone writes it.
   const bool finite = state_is_finite(state_);
@@ -85,11 +85,6 @@ FrameReport Simulation::advance_frame() {
   }
   r.max_strain = last_strain_ = strain;
   r.kinetic_energy = kinetic_energy(model_, state_.v);
-  r.solves = ws_.solve_log;
-  r.contacts = ws_.collision.contacts_found;
-  ws_.collision.contacts_found = 0;
-  r.zones = ws_.collision.zones.figures;
-  ws_.collision.zones.figures = {};
   if (r.steps.failed > 0 && failed_steps_ == 0) first_failure_ = describe_failure(options_.solver, r.steps.first_failure, r.frame);
   failed_steps_ += r.steps.failed;
   return r;

@@ -17,14 +17,11 @@ namespace clothsim::sim {
 
 struct FrameReport {
   int frame = 0;            // the frame the state is now at
-  FrameSteps steps;         // steps taken and rejected, and accepted ones that failed their check
+  FrameSteps steps;         // steps taken and rejected, failed checks, solves and what the steps did
   bool diverged = false;    // the state is not to be written: see `divergence`
   std::string divergence;   // why, with the step that failed and the remedy, in words; empty unless diverged
   Real max_strain = 0;      // largest (|d| - rest)/rest over all springs at the frame's end
   Real kinetic_energy = 0;  // J
-  std::vector<Workspace::SolveRecord> solves;  // the frame's implicit solves, in step order
-  std::int64_t contacts = 0;                   // contacts found by the first collision pass of each step
-  ZoneFigures zones;                           // the impact zones of the frame's steps
 };
 
 class Simulation {
@@ -45,6 +42,8 @@ class Simulation {
   // Steps that failed their check and were kept (fixed timestep), over the run, and the first of them.
   std::int64_t failed_steps() const { return failed_steps_; }
   const std::string& first_failure() const { return first_failure_; }
+  // What every step of the run did, summed (force evaluations, CG iterations, contacts, stage times).
+  const StepCounts& totals() const { return totals_; }
 
   // Continues from `state`, the state at `frame` (a checkpoint): the next frame computed is frame + 1. The
   // guard keeps measuring from the scene's initial state, so a resumed run is judged like a whole one.
@@ -64,6 +63,7 @@ class Simulation {
   int next_frame_;
   Real last_strain_ = 0;  // largest spring strain of the last frame computed
   std::int64_t failed_steps_ = 0;
+  StepCounts totals_;
   std::string first_failure_;
 };
 

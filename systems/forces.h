@@ -11,8 +11,8 @@
 namespace clothsim {
 
 // The force stage: springs, then external forces, leaving accelerations in ws.f. Every integrator stage calls
-// this on the whole system (springs couple particles, so none can be advanced alone).
-void eval_forces(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, Real time,
+// this on the whole system (springs couple particles, so none can be advanced alone). Returns its wall time, s.
+double eval_forces(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, Real time,
                  Workspace& ws);
 
 // The force stage followed by an integrator's per-particle update: update(i) runs once per particle with the
@@ -20,14 +20,15 @@ void eval_forces(const Model& model, std::span<const Vec3> x, std::span<const Ve
 // (and model.fuse_particle_pass) the external forces and update(i) run inside the spring pass, in the chunk
 // that closes particle i, while x, v and f of its neighbourhood are in cache: one sweep over the particles
 // instead of three (springs, external forces, update). The bytes are those of eval_forces and a separate pass.
+// Returns the wall time, s, of the forces (and of the update when it runs inside the pass).
 template <class Update>
-void eval_forces_then(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Real time,
+double eval_forces_then(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Real time,
                       Workspace& ws, Update&& update) {
   // Stitches add their forces after the springs, before any particle is final: no fused pass with them.
   if (m.spring_layout != SpringLayout::blocked || !m.fuse_particle_pass || m.stitch_count > 0) {
-    eval_forces(m, x, v, time, ws);
+    const double seconds = eval_forces(m, x, v, time, ws);
     parallel_over(m.particle_count, particle_grain, update);
-    return;
+    return seconds;
   }
   const auto t0 = std::chrono::steady_clock::now();
   if (m.needs_normals()) eval_normals(m, x, ws.normal);
@@ -36,9 +37,8 @@ void eval_forces_then(const Model& m, std::span<const Vec3> x, std::span<const V
     f[i] = external_acceleration(m, i, f[i], x[i], v[i], time, ws.normal);
     update(i);
   });
-  ++ws.force_evaluations;
   // The update is inside the pass: counted as force time (the studies' split is then forces + update).
-  ws.seconds_forces += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace clothsim

@@ -14,9 +14,9 @@ void integrate_euler(std::span<const Vec3> x, std::span<const Vec3> v, std::span
   });
 }
 
-void integrate_symplectic(const Model& m, const State& in, State& out, Workspace& ws, Real h) {
+double integrate_symplectic(const Model& m, const State& in, State& out, Workspace& ws, Real h) {
   const auto& a = ws.f;
-  eval_forces_then(m, in.x, in.v, in.time, ws, [&](Index i) {
+  return eval_forces_then(m, in.x, in.v, in.time, ws, [&](Index i) {
     const Vec3 vn = in.v[i] + h * a[i];
     out.v[i] = vn;
     out.x[i] = in.x[i] + h * vn;

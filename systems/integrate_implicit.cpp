@@ -143,14 +143,16 @@ CgResult solve_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3
 StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const State& in, State& out, Workspace& ws,
                               Real h, ImplicitLayout layout) {
   const Index n = m.particle_count;
-  Workspace::SolveRecord record;
+  StepResult result;
+  SolveRecord& record = result.solve;
   Real last_residual = 0;  // |b| of the previous Newton correction's right-hand side (the backward-Euler residual)
   for (int k = 0; k < opt.newton_iterations; ++k) {
     const bool first = k == 0;
     // Baraff & Witkin linearise about (x0, v0); each Newton correction about the latest iterate (out.x, out.v).
     std::span<const Vec3> x = first ? std::span<const Vec3>(in.x) : std::span<const Vec3>(out.x);
     std::span<const Vec3> v = first ? std::span<const Vec3>(in.v) : std::span<const Vec3>(out.v);
-    eval_forces(m, x, v, in.time, ws);
+    result.counts.seconds_forces += eval_forces(m, x, v, in.time, ws);
+    ++result.counts.force_evaluations;
     build_spring_blocks(m, x, h, ws);
     if (first) parallel_over(n, particle_grain, [&](Index i) { ws.dv[i] = Vec3::Zero(); });
     build_particle_terms(m, x, v, h, first, ws);
@@ -172,9 +174,9 @@ StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const St
       out.x[i] = in.x[i] + h * out.v[i];
     });
   }
-  ws.cg_iterations_total += record.cg_iterations;
-  if (ws.solve_log.size() < ws.solve_log.capacity()) ws.solve_log.push_back(record);
-  return StepResult{record.failed()};
+  result.counts.cg_iterations = record.cg_iterations;
+  result.failed = record.failed();
+  return result;
 }
 
 }  // namespace clothsim

@@ -18,10 +18,9 @@ struct CgResult {
 };
 
 // Advances in by h into out; opt.newton_iterations linear solves (the first is Baraff & Witkin's, later ones
-// are Newton corrections of the backward-Euler residual about the latest iterate). Records the step's health in
-// ws.solve_log while its capacity lasts (CG iterations, residual, convergence) and returns failed when the
-// solve is not to be trusted (Workspace::SolveRecord::failed: a solve stopped at its cap, or a Newton correction
-// raised the residual). The strain a step made is the frame loop's check (sim/frame_stepper.h).
+// are Newton corrections of the backward-Euler residual about the latest iterate). Returns the step's health
+// (StepResult::solve: CG iterations, residual, convergence) and failed when the solve is not to be trusted
+// (SolveRecord::failed: a solve stopped at its cap, or a Newton correction raised the residual). The strain a step made is the frame loop's check (sim/frame_stepper.h).
 StepResult integrate_implicit(const Model& model, const SolverOptions& opt, const State& in, State& out, Workspace& ws,
                               Real h, ImplicitLayout layout = ImplicitLayout::spring_blocks);
 

@@ -14,34 +14,44 @@
 namespace clothsim {
 
 StepResult step(const Model& model, const SimOptions& options, const State& in, State& out, Workspace& ws, Real h) {
+  using clock = std::chrono::steady_clock;
   StepResult result;
-  const auto t0 = std::chrono::steady_clock::now();
-  const double forces_before = ws.seconds_forces, collide_before = ws.seconds_collide;
+  const auto t0 = clock::now();
+  double forces = 0;
   switch (options.integrator) {
     case Integrator::euler:
-      eval_forces(model, in.x, in.v, in.time, ws);
+      forces = eval_forces(model, in.x, in.v, in.time, ws);
       integrate_euler(in.x, in.v, ws.f, h, out.x, out.v);
+      result.counts.force_evaluations = 1;
       break;
     case Integrator::symplectic:
-      integrate_symplectic(model, in, out, ws, h);
+      forces = integrate_symplectic(model, in, out, ws, h);
+      result.counts.force_evaluations = 1;
       break;
     case Integrator::rk4:
-      integrate_rk4(model, in, out, ws, h);
+      forces = integrate_rk4(model, in, out, ws, h);
+      result.counts.force_evaluations = 4;
       break;
     case Integrator::implicit:
       result = integrate_implicit(model, options.solver, in, out, ws, h);
+      forces = result.counts.seconds_forces;
       break;
   }
   apply_attachments(model, ws.collision, in, out, h);
   if (model.stitch_count > 0) apply_stitch_limit(model, out, h, in.time + h);
   // Collisions end the step (Bridson et al. 2002 §7): the strain limit's projections move particles without
   // looking at contacts, so run after collisions they could drag cloth back into a body or another layer.
-  if (model.strain_limited) apply_strain_limit(model, out, ws, h);
-  collide(model, in, out, ws, h);
+  if (model.strain_limited) result.counts.strain_sweeps = apply_strain_limit(model, out, h);
+  const auto t1 = clock::now();
+  const CollideCounts collided = collide(model, in, out, ws, h);
+  const auto t2 = clock::now();
   out.time = in.time + h;
   out.step = in.step + 1;
-  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  ws.seconds_integrate += total - (ws.seconds_forces - forces_before) - (ws.seconds_collide - collide_before);
+  result.counts.contacts = collided.contacts;
+  result.counts.zones = collided.zones;
+  result.counts.seconds_forces = forces;
+  result.counts.seconds_collide = std::chrono::duration<double>(t2 - t1).count();
+  result.counts.seconds_integrate = std::chrono::duration<double>(t1 - t0).count() - forces;
   return result;
 }
 

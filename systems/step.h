@@ -10,7 +10,7 @@ namespace clothsim {
 
 // Advances in by h into out (distinct states; out is resized by the caller once). The integrator is the
 // options', chosen by one switch per step, never per particle. The result says whether the step failed (only the
-// implicit solve can today).
+// implicit solve can today) and what it did (systems/step_result.h).
 StepResult step(const Model& model, const SimOptions& options, const State& in, State& out, Workspace& ws, Real h);
 
 }  // namespace clothsim

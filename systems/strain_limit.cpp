@@ -84,7 +84,7 @@ Real strain_limit_excess(const Model& m, std::span<const Vec3> x) {
   });
 }
 
-int apply_strain_limit(const Model& m, State& out, Workspace& ws, Real h) {
+int apply_strain_limit(const Model& m, State& out, Real h) {
   // Stop a little inside the guarantee so the last sweep's round-off cannot cross it.
   const Real stop = 0.5 * strain_limit_tolerance;
   if (strain_limit_excess(m, out.x) <= stop) return 0;
@@ -100,7 +100,6 @@ int apply_strain_limit(const Model& m, State& out, Workspace& ws, Real h) {
     // and after any sweep that met no spring past the stop, so most steps check once or twice, not every sweep.
     done = (it == 1 || met <= stop) && strain_limit_excess(m, out.x) <= stop;
   }
-  ws.strain_iterations_total += it;
   return it;
 }
 

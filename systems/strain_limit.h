@@ -30,6 +30,6 @@ Real strain_limit_excess(const Model& model, std::span<const Vec3> x);
 // exactly, later ones over-relax by strain_limit_relaxation; until every limited spring is within the limit +
 // strain_limit_tolerance / 2, or strain_limit_max_iterations sweeps. Same bytes at any thread count. Returns
 // the sweeps taken (0 when the tethers alone were enough).
-int apply_strain_limit(const Model& model, State& out, Workspace& ws, Real h);
+int apply_strain_limit(const Model& model, State& out, Real h);
 
 }  // namespace clothsim

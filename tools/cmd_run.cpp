@@ -80,11 +80,11 @@ io::FrameStats frame_stats(const sim::FrameReport& r) {
   f.frame = r.frame;
   f.max_strain = r.max_strain;
   f.kinetic_energy = r.kinetic_energy;
-  f.contacts = r.contacts;
-  f.zones = r.zones;
+  f.contacts = r.steps.counts.contacts;
+  f.zones = r.steps.counts.zones;
   f.steps = {r.steps.taken, r.steps.rejected, r.steps.smallest, r.steps.largest};
   f.implicit_failed = r.steps.failed;
-  for (const Workspace::SolveRecord& solve : r.solves) {
+  for (const SolveRecord& solve : r.steps.solves) {
     f.cg_iterations.push_back(solve.cg_iterations);
     f.cg_residual.push_back(solve.cg_residual);
     f.factorizations += solve.factorizations;
@@ -169,13 +169,14 @@ int cmd_run(int argc, char** argv) {
                  simulation.first_failure().c_str());
 
   stats.steps = state.step;
-  stats.force_evaluations = ws.force_evaluations;
-  stats.cg_iterations = ws.cg_iterations_total;
+  const StepCounts& totals = simulation.totals();
+  stats.force_evaluations = totals.force_evaluations;
+  stats.cg_iterations = totals.cg_iterations;
   stats.implicit_failed_steps = simulation.failed_steps();
-  stats.strain_limit_iterations = ws.strain_iterations_total;
-  stats.forces_seconds = ws.seconds_forces;
-  stats.integrate_seconds = ws.seconds_integrate;
-  stats.collide_seconds = ws.seconds_collide;
+  stats.strain_limit_iterations = totals.strain_sweeps;
+  stats.forces_seconds = totals.seconds_forces;
+  stats.integrate_seconds = totals.seconds_integrate;
+  stats.collide_seconds = totals.seconds_collide;
   stats.peak_rss_bytes = peak_rss_bytes();
   stats.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   if (args.has("--stats")) io::write_stats(args.get("--stats"), model, options, stats);

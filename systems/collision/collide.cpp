@@ -1,7 +1,6 @@
 #include "systems/collision/collide.h"
 
 #include <algorithm>
-#include <chrono>
 
 #include "systems/collision/contacts.h"
 #include "systems/collision/continuous_pairs.h"
@@ -12,10 +11,10 @@
 
 namespace clothsim {
 
-void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h) {
+CollideCounts collide(const Model& m, const State& in, State& out, Workspace& ws, Real h) {
   const CollisionModel& c = m.collision;
-  if (!c.enabled) return;
-  const auto t0 = std::chrono::steady_clock::now();
+  CollideCounts counts;
+  if (!c.enabled) return counts;
   CollisionScratch& s = ws.collision;
   place_colliders(m, in.time, h, s);
   push_out_deep_vertices(m, in, out, s, h);
@@ -30,7 +29,7 @@ void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h)
     collide_analytic(m, out, s, h);
     if (broad) respond_proximities(m, in, out, s, mode, h);
     const std::int64_t found = apply_accumulated(m, out, s);
-    if (iter == 0) s.contacts_found += found;
+    if (iter == 0) counts.contacts = found;
     if (found == 0) break;
   }
   // The continuous pass repeats too (its responses are averaged per vertex, so one pass may leave part of a
@@ -42,8 +41,8 @@ void collide(const Model& m, const State& in, State& out, Workspace& ws, Real h)
     crossings_left = collide_continuous(m, in, out, s, mode, h) > 0;
     if (!crossings_left) break;
   }
-  if (crossings_left && c.impact_zones()) resolve_impact_zones(m, in, out, s, mode, h);
-  ws.seconds_collide += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (crossings_left && c.impact_zones()) counts.zones = resolve_impact_zones(m, in, out, s, mode, h);
+  return counts;
 }
 
 std::vector<std::array<Index, 3>> list_proximities(const Model& m, const State& in, const State& out,

@@ -13,8 +13,14 @@
 
 namespace clothsim {
 
+// What the collide stage of a step found.
+struct CollideCounts {
+  std::int64_t contacts = 0;  // contacts of the first proximity pass
+  ZoneFigures zones;          // what the impact zones did
+};
+
 // The step from `in` (start) to `out` (integrated, changed in place) of length h.
-void collide(const Model& model, const State& in, State& out, Workspace& ws, Real h);
+CollideCounts collide(const Model& model, const State& in, State& out, Workspace& ws, Real h);
 
 // For tests and benchmarks: every proximity pair of the current configuration found through one broad phase,
 // {0, vertex, prim} for vertex-triangle, {1, edge, edge} for edge-edge, {2, cloth triangle, collider vertex}

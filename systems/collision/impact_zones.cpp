@@ -147,7 +147,7 @@ void rigidify_zones(const Model& m, const State& in, State& out, const Collision
   });
 }
 
-void count_zones(ZoneScratch& z) {
+void count_zones(ZoneScratch& z, ZoneFigures& figures) {
   const Index n = Index(z.parent.size());
   for (Index k = 0; k < z.zone_count; ++k) z.slot[z.member[z.offset[k]]] = -1;
   z.zone_count = 0;
@@ -161,9 +161,9 @@ void count_zones(ZoneScratch& z) {
     }
   for (Index x = 0; x < n; ++x)
     if (z.slot[x] > 0) {
-      ++z.figures.zones;
-      z.figures.zone_nodes += z.slot[x];
-      z.figures.largest = std::max(z.figures.largest, std::int64_t(z.slot[x]));
+      ++figures.zones;
+      figures.zone_nodes += z.slot[x];
+      figures.largest = std::max(figures.largest, std::int64_t(z.slot[x]));
       z.slot[x] = -1;
     }
 }
@@ -175,11 +175,13 @@ void count_zones(ZoneScratch& z) {
 // within the thickness, not only actual crossings: a squeezed sheet left micrometres from a body would otherwise be
 // held there by its zone, crossing and all (docs/performance.md, "Rigid impact zones"). So an unresolved step may end
 // with pairs that only graze within the thickness.
-void resolve_impact_zones(const Model& m, const State& in, State& out, CollisionScratch& s, BroadMode mode, Real h) {
+ZoneFigures resolve_impact_zones(const Model& m, const State& in, State& out, CollisionScratch& s, BroadMode mode,
+                                 Real h) {
   const CollisionModel& c = m.collision;
   ZoneScratch& z = s.zones;
+  ZoneFigures figures;
   reset_zones(z);
-  ++z.figures.steps;
+  ++figures.steps;
   bool clean = false;
   for (int pass = 0; pass < c.zone_iterations; ++pass) {
     build_cloth_broad_phase(m, in, out, s);
@@ -199,7 +201,7 @@ void resolve_impact_zones(const Model& m, const State& in, State& out, Collision
       contact_nodes(m, s.contacts[std::size_t(k)], nodes);
       if (const int merged = add_zone_pair(z, nodes, 4)) links.fetch_add(merged, std::memory_order_relaxed);
     });
-    ++z.figures.passes;
+    ++figures.passes;
     if (pairs == 0) {
       clean = true;
       break;
@@ -208,8 +210,9 @@ void resolve_impact_zones(const Model& m, const State& in, State& out, Collision
     gather_zones(z);
     rigidify_zones(m, in, out, s, h);
   }
-  if (!clean) ++z.figures.unresolved;
-  count_zones(z);
+  if (!clean) ++figures.unresolved;
+  count_zones(z, figures);
+  return figures;
 }
 
 }  // namespace clothsim

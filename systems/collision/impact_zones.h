@@ -145,13 +145,13 @@ void reset_zones(ZoneScratch& z);
 void gather_zones(ZoneScratch& z);
 // Moves the gathered zones as rigid bodies over the step (out.x and out.v of their cloth particles).
 void rigidify_zones(const Model& model, const State& in, State& out, const CollisionScratch& s, Real h);
-// Adds the step's zones and their sizes to the --stats figures.
-void count_zones(ZoneScratch& z);
+// Adds the step's zones and their sizes to `figures`.
+void count_zones(ZoneScratch& z, ZoneFigures& figures);
 
 // The zone driver, after continuous passes that left crossings: each pass finds the pairs the continuous pass
 // would still respond to (for_each_crossing, systems/collision/continuous_pairs.h), merges their nodes into zones
-// and moves the zones that grew, until a pass finds none (impact_zones.cpp).
-void resolve_impact_zones(const Model& model, const State& in, State& out, CollisionScratch& s, BroadMode mode,
-                          Real h);
+// and moves the zones that grew, until a pass finds none (impact_zones.cpp). Returns what the zones did.
+ZoneFigures resolve_impact_zones(const Model& model, const State& in, State& out, CollisionScratch& s,
+                                 BroadMode mode, Real h);
 
 }  // namespace clothsim

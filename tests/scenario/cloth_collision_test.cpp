@@ -278,8 +278,7 @@ std::vector<Vec3> sliding_strip(Real friction_a, Real friction_b) {
   State out = in;
   for (Index i = 0; i < m.particle_count; ++i) out.x[i] = in.x[i] + h * in.v[i];
   Workspace ws = make_workspace(m, sc.built.options);
-  collide(m, in, out, ws, h);
-  REQUIRE(ws.collision.contacts_found > 0);
+  REQUIRE(collide(m, in, out, ws, h).contacts > 0);
   return std::vector<Vec3>(out.v.begin() + a.particle_begin, out.v.begin() + a.particle_end);
 }
 

@@ -202,7 +202,7 @@ TEST_CASE("the Kick body's first contact (shared data: skipped without it): no c
   run_frames(sc, [&](int f, const Model& m, const State& s, const Workspace& ws, const sim::FrameReport& r) {
     penetrations += count_collider_crossings(m, s.x, ws.collision, 0) + count_inside(m, s.x, ws.collision, 0);
     if (f > sc.built.options.start_frame) nearest = std::min(nearest, min_collider_distance(m, s.x, ws.collision, 0));
-    contacts += r.contacts;
+    contacts += r.steps.counts.contacts;
   });
   INFO("nearest " << nearest << ", contacts " << contacts);
   CHECK(penetrations == 0);

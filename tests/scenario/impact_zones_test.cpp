@@ -182,11 +182,11 @@ ThroughRun sheets_through(int zone_iterations) {
     }
   REQUIRE(count_intersecting_triangles(m, in.x) == 0);
   Workspace ws = make_workspace(m, sc.built.options);
-  collide(m, in, out, ws, h);
+  const CollideCounts counts = collide(m, in, out, ws, h);
   ThroughRun r;
   r.crossings = count_intersecting_triangles(m, out.x);
   r.x = out.x;
-  r.zones = ws.collision.zones.figures;
+  r.zones = counts.zones;
   return r;
 }
 
@@ -251,7 +251,7 @@ TEST_CASE("the Kick body's fastest frames (shared data: skipped without it): no 
   test::run_frames(sc, [&](int f, const Model& m, const State& s, const Workspace& ws, const sim::FrameReport& r) {
     penetrations += count_collider_crossings(m, s.x, ws.collision, 0) + count_intersecting_triangles(m, s.x);
     if (f > 53) nearest = std::min(nearest, min_collider_distance(m, s.x, ws.collision, 0));
-    zone_steps += r.zones.steps;
+    zone_steps += r.steps.counts.zones.steps;
   });
   CHECK(penetrations == 0);
   CHECK(zone_steps > 100);  // the zones did the work: they ran in hundreds of the 1,400 steps

@@ -56,13 +56,15 @@ inline BuiltScene grid_sheet(const GridSpec& g) {
   return build(scene);
 }
 
-// Advances `steps` steps of h with the options' integrator.
-inline void run_steps(const Model& m, const SimOptions& o, State& s, Workspace& ws, Real h, int steps) {
+// Advances `steps` steps of h with the options' integrator; returns what they did, summed.
+inline StepCounts run_steps(const Model& m, const SimOptions& o, State& s, Workspace& ws, Real h, int steps) {
   State scratch = s;
+  StepCounts counts;
   for (int k = 0; k < steps; ++k) {
-    step(m, o, s, scratch, ws, h);
+    counts.add(step(m, o, s, scratch, ws, h).counts);
     std::swap(s, scratch);
   }
+  return counts;
 }
 
 // Moves every particle by up to scale/2 per axis and gives it a velocity in [-0.5, 0.5)^3, from a fixed

@@ -1,4 +1,4 @@
-// The implicit step's health record (Workspace::SolveRecord) and the sparse Cholesky preconditioner.
+// The implicit step's health record (SolveRecord) and the sparse Cholesky preconditioner.
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
 
@@ -17,13 +17,10 @@ using namespace clothsim::test;
 namespace {
 
 // One implicit step; its health is the record it logs, and the StepResult it returns must agree with it.
-Workspace::SolveRecord implicit_step(const BuiltScene& s, const State& in, State& out, Workspace& ws, Real h) {
-  ws.solve_log.clear();
-  if (ws.solve_log.capacity() == 0) ws.solve_log.reserve(1);
+SolveRecord implicit_step(const BuiltScene& s, const State& in, State& out, Workspace& ws, Real h) {
   const StepResult result = integrate_implicit(s.model, s.options.solver, in, out, ws, h);
-  REQUIRE(ws.solve_log.size() == 1);
-  CHECK(result.failed == ws.solve_log.back().failed());
-  return ws.solve_log.back();
+  CHECK(result.failed == result.solve.failed());
+  return result.solve;
 }
 
 BuiltScene stiff_sheet(Preconditioner pc) {
@@ -46,13 +43,13 @@ TEST_CASE("a CG solve stopped at its cap is reported as not converged") {
   s.options.solver.cg_max_iterations = 3;
   Workspace ws = make_workspace(s.model, s.options);
   State out = s.state;
-  const Workspace::SolveRecord r = implicit_step(s, s.state, out, ws, 1.0 / 120);
+  const SolveRecord r = implicit_step(s, s.state, out, ws, 1.0 / 120);
   CHECK(r.cg_iterations == 3);
   CHECK(r.cg_residual > s.options.solver.cg_tolerance);
   CHECK_FALSE(r.converged);
   CHECK(r.failed());
   s.options.solver.cg_max_iterations = 1000;
-  const Workspace::SolveRecord ok = implicit_step(s, s.state, out, ws, 1.0 / 120);
+  const SolveRecord ok = implicit_step(s, s.state, out, ws, 1.0 / 120);
   CHECK(ok.converged);
   CHECK_FALSE(ok.failed());
 }
@@ -64,7 +61,7 @@ TEST_CASE("the Cholesky preconditioner solves a step in one CG iteration and kee
   const Real h = 1.0 / 120;
   State out = s.state;
   // A fresh factor of the step's own matrix: CG's first iterate is the solution up to round-off.
-  Workspace::SolveRecord r = implicit_step(s, s.state, out, ws, h);
+  SolveRecord r = implicit_step(s, s.state, out, ws, h);
   CHECK(r.factorizations == 1);
   CHECK(r.cg_iterations == 1);
   CHECK(r.cg_residual < 1e-10);
