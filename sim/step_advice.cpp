@@ -64,8 +64,12 @@ std::string step_remedy(const SimOptions& m, const StableSteps& limits, Real div
       break;
   }
   const Real step = diverged_step > 0 ? diverged_step : m.dt;
-  return "backward Euler is stable at any step for springs; the linear solve failed: use a time step below " +
-         seconds(0.25 * step) + ", timestep=\"auto\", or a tighter cgTolerance";
+  // The run's guard does not say which check failed the step (an unconverged solve, or a converged one whose
+  // linearisation about the step's start went too far); both are cured by shorter steps.
+  return "backward Euler is stable at any step for springs, but each step linearises the forces about its start "
+         "and this one went too far: use a time step below " + seconds(0.25 * step) +
+         ", timestep=\"auto\" (which rejects such steps and retries them smaller), or newtonIterations=\"3\"; "
+         "a cloth this soft for its load may need a higher stiffness or maxStrain";
 }
 
 std::string step_warning(const SimOptions& m, const StableSteps& limits) {
