@@ -40,7 +40,8 @@ int main() {
   // The implicit step at the peer's 1/48 s with its default, multigrid-preconditioned CG (to 1e-6).
   BuiltScene imp = bench::build_sheet(n, Integrator::implicit, 1.0 / 48);
   const Model& m = sym.model;
-  Workspace ws = make_workspace(m, sym.options), ws_rk4 = make_workspace(rk4.model, rk4.options), ws_imp = make_workspace(imp.model, imp.options);
+  Workspace ws = make_workspace(m, sym.options), ws_rk4 = make_workspace(rk4.model, rk4.options);
+  Workspace ws_imp = make_workspace(imp.model, imp.options);
   State scratch = sym.state, scratch_rk4 = rk4.state, scratch_imp = imp.state;
   std::vector<Vec3> per_spring(m.spring_count);
   // Warm-up outside the windows: a few steps so the sheet is strained, and TBB's arena is started.

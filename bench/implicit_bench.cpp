@@ -46,7 +46,8 @@ void BM_implicit_step(benchmark::State& bs, ImplicitLayout layout, Preconditione
   State out = sh.s.state;
   long long cg = 0;
   for (auto _ : bs) {
-    cg += integrate_implicit(sh.s.model, sh.s.options.solver, sh.s.state, out, sh.ws, 0.01, layout).solve.cg_iterations;
+    const StepResult r = integrate_implicit(sh.s.model, sh.s.options.solver, sh.s.state, out, sh.ws, 0.01, layout);
+    cg += r.solve.cg_iterations;
     benchmark::DoNotOptimize(out.v.data());
   }
   bs.counters["cg_iterations"] = double(cg) / double(bs.iterations());

@@ -5,9 +5,9 @@
 
 namespace clothsim {
 
-// A binary AABB tree over slots first_slot + [0, centroid count), one slot a leaf, built once from the initial centroids (median split on
-// the longest axis) and stored breadth first, so a refit can update one level at a time in parallel, deepest
-// level first (systems/collision/bvh.cpp).
+// A binary AABB tree over slots first_slot + [0, centroid count), one slot a leaf, built once from the initial
+// centroids (median split on the longest axis) and stored breadth first, so a refit can update one level at a time in
+// parallel, deepest level first (systems/collision/bvh.cpp).
 void build_bvh_topology(const std::vector<Vec3>& centroid, Index first_slot, BvhTree& c) {
   struct Range { Index begin, end; };
   std::vector<Index> order(centroid.size());

@@ -16,12 +16,12 @@ struct Model;
 void build_particle_springs(const Model& model, std::vector<Index>& offset, std::vector<Index>& index);
 // Fills model.particle_spring_offset / particle_spring_index.
 void build_particle_springs(Model& model);
-// Whether the model's kernels, stepped by `integrator`, read the spring CSR: the gather layout and the implicit integrator.
-// The blocked layout alone does not (nor the strain limit, which sweeps by colour), and the model then goes
-// without it.
+// Whether the model's kernels, stepped by `integrator`, read the spring CSR: the gather layout and the implicit
+// integrator. The blocked layout alone does not (nor the strain limit, which sweeps by colour), and the model then
+// goes without it.
 bool needs_particle_springs(const Model& model, Integrator integrator);
-// Builds the spring CSR where the model needs it and lacks it: for a model whose integrator or layout was
-// differ from the ones it was built for (the studies run one model with every integrator).
+// Builds the spring CSR where the model needs it and lacks it: for a model stepped by an integrator, or given a
+// layout, other than the ones it was built for (the studies run one model with every integrator).
 void ensure_particle_springs(Model& model, Integrator integrator);
 
 // The incident triangles of every particle, in triangle order: model.particle_tri_offset / particle_tri_index.

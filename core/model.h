@@ -1,7 +1,7 @@
 #pragma once
-// The immutable physics of a simulation (Model; how it is stepped is SimOptions, core/sim_options.h), the only
-// thing a step changes (State), and the scratch sized once when the model is built (Workspace). All are structure-of-arrays: one contiguous
-// buffer per field, named <entity>_<attr>, with shape and units in a comment.
+// The immutable physics of a simulation (Model; how it is stepped is SimOptions, core/sim_options.h), the only thing
+// a step changes (State), and the scratch sized once when the model is built (Workspace). All are
+// structure-of-arrays: one contiguous buffer per field, named <entity>_<attr>, with shape and units in a comment.
 #include <array>
 #include <string>
 #include <vector>

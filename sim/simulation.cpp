@@ -85,7 +85,8 @@ FrameReport Simulation::advance_frame() {
   }
   r.max_strain = last_strain_ = strain;
   r.kinetic_energy = kinetic_energy(model_, state_.v);
-  if (r.steps.failed > 0 && failed_steps_ == 0) first_failure_ = describe_failure(options_.solver, r.steps.first_failure, r.frame);
+  if (r.steps.failed > 0 && failed_steps_ == 0)
+    first_failure_ = describe_failure(options_.solver, r.steps.first_failure, r.frame);
   failed_steps_ += r.steps.failed;
   return r;
 }

@@ -14,7 +14,7 @@ void integrate_euler(std::span<const Vec3> x, std::span<const Vec3> v, std::span
   });
 }
 
-double integrate_symplectic(const Model& m, const State& in, State& out, Workspace& ws, Real h) {
+StepCounts integrate_symplectic(const Model& m, const State& in, State& out, Workspace& ws, Real h) {
   const auto& a = ws.f;
   return eval_forces_then(m, in.x, in.v, in.time, ws, [&](Index i) {
     const Vec3 vn = in.v[i] + h * a[i];

@@ -2,6 +2,7 @@
 #include <span>
 
 #include "core/model.h"
+#include "systems/step_result.h"
 
 namespace clothsim {
 
@@ -10,7 +11,7 @@ void integrate_euler(std::span<const Vec3> x, std::span<const Vec3> v, std::span
                      std::span<Vec3> x_out, std::span<Vec3> v_out);
 // Symplectic (semi-implicit) Euler: v' = v + h a, x' = x + h v'. First order; stable for h < 2/omega_max.
 // Evaluates the forces of `in` itself, so the update can run inside the spring pass (systems/forces.h).
-// Returns the wall time of its force stage, s.
-double integrate_symplectic(const Model& model, const State& in, State& out, Workspace& ws, Real h);
+// Returns its force stage's counts (eval_forces).
+StepCounts integrate_symplectic(const Model& model, const State& in, State& out, Workspace& ws, Real h);
 
 }  // namespace clothsim

@@ -151,8 +151,7 @@ StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const St
     // Baraff & Witkin linearise about (x0, v0); each Newton correction about the latest iterate (out.x, out.v).
     std::span<const Vec3> x = first ? std::span<const Vec3>(in.x) : std::span<const Vec3>(out.x);
     std::span<const Vec3> v = first ? std::span<const Vec3>(in.v) : std::span<const Vec3>(out.v);
-    result.counts.seconds_forces += eval_forces(m, x, v, in.time, ws);
-    ++result.counts.force_evaluations;
+    result.counts.add(eval_forces(m, x, v, in.time, ws));
     build_spring_blocks(m, x, h, ws);
     if (first) parallel_over(n, particle_grain, [&](Index i) { ws.dv[i] = Vec3::Zero(); });
     build_particle_terms(m, x, v, h, first, ws);

@@ -17,10 +17,11 @@ struct CgResult {
   Real residual = 0;  // |r| / |b| at exit (0 when b = 0)
 };
 
-// Advances in by h into out; opt.newton_iterations linear solves (the first is Baraff & Witkin's, later ones
-// are Newton corrections of the backward-Euler residual about the latest iterate). Returns the step's health
+// Advances in by h into out; opt.newton_iterations linear solves (the first is Baraff & Witkin's, later ones are
+// Newton corrections of the backward-Euler residual about the latest iterate). Returns the step's health
 // (StepResult::solve: CG iterations, residual, convergence) and failed when the solve is not to be trusted
-// (SolveRecord::failed: a solve stopped at its cap, or a Newton correction raised the residual). The strain a step made is the frame loop's check (sim/frame_stepper.h).
+// (SolveRecord::failed: a solve stopped at its cap, or a Newton correction raised the residual). The strain a step
+// made is the frame loop's check (sim/frame_stepper.h).
 StepResult integrate_implicit(const Model& model, const SolverOptions& opt, const State& in, State& out, Workspace& ws,
                               Real h, ImplicitLayout layout = ImplicitLayout::spring_blocks);
 

@@ -17,24 +17,19 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
   using clock = std::chrono::steady_clock;
   StepResult result;
   const auto t0 = clock::now();
-  double forces = 0;
   switch (options.integrator) {
     case Integrator::euler:
-      forces = eval_forces(model, in.x, in.v, in.time, ws);
+      result.counts = eval_forces(model, in.x, in.v, in.time, ws);
       integrate_euler(in.x, in.v, ws.f, h, out.x, out.v);
-      result.counts.force_evaluations = 1;
       break;
     case Integrator::symplectic:
-      forces = integrate_symplectic(model, in, out, ws, h);
-      result.counts.force_evaluations = 1;
+      result.counts = integrate_symplectic(model, in, out, ws, h);
       break;
     case Integrator::rk4:
-      forces = integrate_rk4(model, in, out, ws, h);
-      result.counts.force_evaluations = 4;
+      result.counts = integrate_rk4(model, in, out, ws, h);
       break;
     case Integrator::implicit:
       result = integrate_implicit(model, options.solver, in, out, ws, h);
-      forces = result.counts.seconds_forces;
       break;
   }
   apply_attachments(model, ws.collision, in, out, h);
@@ -49,9 +44,8 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
   out.step = in.step + 1;
   result.counts.contacts = collided.contacts;
   result.counts.zones = collided.zones;
-  result.counts.seconds_forces = forces;
   result.counts.seconds_collide = std::chrono::duration<double>(t2 - t1).count();
-  result.counts.seconds_integrate = std::chrono::duration<double>(t1 - t0).count() - forces;
+  result.counts.seconds_integrate = std::chrono::duration<double>(t1 - t0).count() - result.counts.seconds_forces;
   return result;
 }
 

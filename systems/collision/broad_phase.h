@@ -1,9 +1,9 @@
 #pragma once
 // The collide stage's broad phase: swept, thickness-inflated boxes of every prim (cloth triangles, then collider
-// mesh triangles); over the cloth's, the scene's spatial hash or BVH, rebuilt every pass; over the colliders', their
-// own BVH, refitted once a step (collider vertices do not move between passes); and the candidate walks the
-// proximity and continuous passes share (Bridson, Fedkiw & Anderson 2002 §6: every pair whose swept boxes meet is tested). The walks are
-// templates so that each pass's per-pair test inlines into the loop over candidates.
+// mesh triangles); over the cloth's, the scene's spatial hash or BVH, rebuilt every pass; over the colliders',
+// their own BVH, refitted once a step (collider vertices do not move between passes); and the candidate walks the
+// proximity and continuous passes share (Bridson, Fedkiw & Anderson 2002 §6: every pair whose swept boxes meet is
+// tested). The walks are templates so that each pass's per-pair test inlines into the loop over candidates.
 #include "core/model.h"
 #include "systems/collision/bvh.h"
 #include "systems/collision/spatial_hash.h"

@@ -24,6 +24,16 @@ Index find_proximities(const Model& m, const State& in, const State& out, Collis
   });
 }
 
+namespace {
+// An edge pair's ends: cloth edge e's, then edge f's (a collider edge's vertices when fixed).
+void edge_pair_ends(const CollisionModel& c, Index e, Index f, bool fixed, Index p[4]) {
+  p[0] = c.edge_a[e];
+  p[1] = c.edge_b[e];
+  p[2] = fixed ? c.mesh_edge_a[f] : c.edge_a[f];
+  p[3] = fixed ? c.mesh_edge_b[f] : c.edge_b[f];
+}
+}  // namespace
+
 void contact_nodes(const Model& m, const Contact& k, Index nodes[4]) {
   const CollisionModel& c = m.collision;
   const Index pc = m.particle_count;
@@ -43,17 +53,15 @@ void contact_nodes(const Model& m, const Contact& k, Index nodes[4]) {
       return;
     }
     case ContactKind::cloth_edges:
-      nodes[0] = c.edge_a[k.a];
-      nodes[1] = c.edge_b[k.a];
-      nodes[2] = c.edge_a[k.b];
-      nodes[3] = c.edge_b[k.b];
+    case ContactKind::collider_edge: {
+      const bool fixed = k.kind == ContactKind::collider_edge;
+      edge_pair_ends(c, k.a, k.b, fixed, nodes);
+      if (fixed) {
+        nodes[2] += pc;
+        nodes[3] += pc;
+      }
       return;
-    case ContactKind::collider_edge:
-      nodes[0] = c.edge_a[k.a];
-      nodes[1] = c.edge_b[k.a];
-      nodes[2] = pc + c.mesh_edge_a[k.b];
-      nodes[3] = pc + c.mesh_edge_b[k.b];
-      return;
+    }
   }
 }
 
@@ -65,8 +73,9 @@ void respond_edge_pair_crossing(const Model& m, const State& in, const State& ou
                                 const Contact& k, Real h) {
   const CollisionModel& c = m.collision;
   const bool fixed = k.kind == ContactKind::collider_edge;
-  const Index a = c.edge_a[k.a], b = c.edge_b[k.a];
-  const Index p[4] = {a, b, fixed ? c.mesh_edge_a[k.b] : c.edge_a[k.b], fixed ? c.mesh_edge_b[k.b] : c.edge_b[k.b]};
+  Index p[4];
+  edge_pair_ends(c, k.a, k.b, fixed, p);
+  const Index a = p[0], b = p[1];
   const std::vector<Vec3>& far0 = fixed ? s.collider_x0 : in.x;
   const std::vector<Vec3>& far1 = fixed ? s.collider_x1 : out.x;
   const Vec3 x0[4] = {in.x[a], in.x[b], far0[p[2]], far0[p[3]]};

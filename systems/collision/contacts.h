@@ -51,9 +51,8 @@ Index find_crossings(const Model& m, const State& in, const State& out, Collisio
   });
 }
 
-// The cloth particles of contact k and, for zone merging, its nodes: cloth particles, and collider vertex v as
-// node particle_count + v. Returns the count (4, or 2 cloth particles for a cloth edge against a collider edge,
-// whose nodes are still 4).
+// The four nodes of contact k, for zone merging: cloth particles, and collider vertex v as node
+// particle_count + v.
 void contact_nodes(const Model& model, const Contact& k, Index nodes[4]);
 
 // Every buffered contact's response added to the accumulators: the proximity pass's (crossed false: the

@@ -26,9 +26,9 @@ inline bool edge_edge_crossing(const Vec3 x0[4], const Vec3 x1[4], Real thick, E
 
 // Every edge pair of for_each_edge_pair that met within the thickness: on_edge(e, f, fixed, px, n, d), e the cloth
 // edge and f the other (a collider edge when `fixed`), px.s and px.t where they met, n and d as edge_edge_crossing
-// gives them. A
-// cloth edge that came from inside a collider is left to the proximity pass, which sends it out. Only pairs whose
-// boxes come within the thickness and whose cloth particles pass keep(particles, count) are tested.
+// gives them. A cloth edge that came from inside a collider is left to the proximity pass, which sends it out.
+// Only pairs whose boxes come within the thickness and whose cloth particles pass keep(particles, count) are
+// tested.
 template <class Keep, class OnEdge>
 void for_each_edge_crossing(const Model& m, const State& in, const State& out, const CollisionScratch& s,
                             BroadMode mode, Keep&& keep, OnEdge&& on_edge) {
@@ -112,9 +112,9 @@ void for_each_crossing(const Model& m, const State& in, const State& out, const 
 }
 
 // The continuous pass, last (Bridson et al. 2002 §6.2): every crossing of for_each_crossing (through the contact
-// buffer, systems/collision/contacts.h) is sent back to the side it came from, with the end-of-step distance along that direction restored to the thickness by an
-// inelastic impulse and a position-only push spread over the cloth particles by their weights. Returns the
-// contacts it responded to.
+// buffer, systems/collision/contacts.h) is sent back to the side it came from, with the end-of-step distance
+// along that direction restored to the thickness by an inelastic impulse and a position-only push spread over the
+// cloth particles by their weights. Returns the contacts it responded to.
 std::int64_t collide_continuous(const Model& model, const State& in, State& out, CollisionScratch& s,
                                 BroadMode mode, Real h);
 

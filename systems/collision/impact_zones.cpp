@@ -187,12 +187,12 @@ ZoneFigures resolve_impact_zones(const Model& m, const State& in, State& out, Co
     build_cloth_broad_phase(m, in, out, s);
     std::atomic<std::int64_t> links{0};
     // After the first pass, a pair none of whose cloth particles is in a zone has not moved since that pass
-    // found it apart (collider vertices move the same in every pass): only pairs touching a zone are tested. A
-    // particle this pass adds to a zone has not moved yet.
+    // found it apart (collider vertices move the same in every pass): only pairs touching a zone are tested. The
+    // flags read are the earlier passes': this pass merges its pairs only after detecting all of them.
     auto moved = [&](const Index* p, int count) {
       if (pass == 0) return true;
       for (int k = 0; k < count; ++k)
-        if (std::atomic_ref<std::uint8_t>(z.flag[p[k]]).load(std::memory_order_relaxed) & zone_member) return true;
+        if (z.flag[p[k]] & zone_member) return true;
       return false;
     };
     const Index pairs = find_crossings(m, in, out, s, mode, moved);

@@ -43,9 +43,9 @@ inline bool clip(const Aabb& box, const Aabb& bounds, Aabb& out) {
 }
 }  // namespace spatial_hash_detail
 
-// Hashes every cloth prim (slots [0, c.cloth_prim_count)) by the cells its box s.prim_box covers within s.query_bounds, with the model's
-// cell or, when that would take over 64 entries a prim, a larger one (s.hash.inv_cell). Grows the entry arrays
-// only when a step needs more entries than any before.
+// Hashes every cloth prim (slots [0, c.cloth_prim_count)) by the cells its box s.prim_box covers within
+// s.query_bounds, with the model's cell or, when that would take over 64 entries a prim, a larger one
+// (s.hash.inv_cell). Grows the entry arrays only when a step needs more entries than any before.
 void build_spatial_hash(const CollisionModel& c, CollisionScratch& s);
 
 // Calls visit(slot) once for every prim whose box overlaps q (q within s.query_bounds). A pair found in several

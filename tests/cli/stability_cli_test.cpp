@@ -128,8 +128,8 @@ TEST_CASE("an implicit run that tears a spring is told why, not that its converg
   // 0.002 N/m springs under gravity at 1/24 s: every solve converges, yet the largest strain climbs from 5.56 to
   // 6.65 within frame 12 (past the guard's 1), so the run stops with exit 3.
   const auto dir = scratch_dir("implicit_torn");
-  write_text(dir / "soft.xml", sheet_scene("timestep=\"0.0416666667\" fps=\"24\" endFrame=\"12\" integrator=\"implicit\"",
-                                           "", "0.002"));
+  write_text(dir / "soft.xml",
+             sheet_scene("timestep=\"0.0416666667\" fps=\"24\" endFrame=\"12\" integrator=\"implicit\"", "", "0.002"));
   const CliResult r = run_cli("run " + (dir / "soft.xml").string() + " --quiet --out " + (dir / "out").string());
   CHECK(r.exit_code == 3);
   CHECK(r.output.find("within one frame") != std::string::npos);

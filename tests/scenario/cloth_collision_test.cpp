@@ -183,7 +183,8 @@ TEST_CASE("cloth pairs: two crumpled sheets report only pairs of different cloth
     in.x[i].y() += height(rng);
     out.x[i] = in.x[i] + Vec3(small(rng), small(rng), small(rng));
   }
-  Workspace wh = make_workspace(m, hash.built.options), wb = make_workspace(bvh.built.model, bvh.built.options);
+  Workspace wh = make_workspace(m, hash.built.options);
+  Workspace wb = make_workspace(bvh.built.model, bvh.built.options);
   build_broad_phase(m, in, out, wh.collision);
   build_broad_phase(bvh.built.model, in, out, wb.collision);
   const auto by_brute = list_proximities(m, in, out, wh.collision, BroadMode::brute);

@@ -247,7 +247,8 @@ TEST_CASE("hash, BVH and brute force find the same proximities on random configu
       in.x[i] += Vec3(0.2 * small(rng), 0.18 + 0.04 * trial + u(rng) * 0.16, 0.2 * small(rng));
       out.x[i] = in.x[i] + Vec3(small(rng), small(rng), small(rng));
     }
-    Workspace wh = make_workspace(hash.built.model, hash.built.options), wb = make_workspace(bvh.built.model, bvh.built.options);
+    Workspace wh = make_workspace(hash.built.model, hash.built.options);
+    Workspace wb = make_workspace(bvh.built.model, bvh.built.options);
     build_broad_phase(hash.built.model, in, out, wh.collision);
     build_broad_phase(bvh.built.model, in, out, wb.collision);
     const auto by_hash = list_proximities(hash.built.model, in, out, wh.collision, BroadMode::hash);
