@@ -1,35 +1,51 @@
 #include "core/cholesky_factor.h"
 
+#include <dlfcn.h>
+#include <suitesparse/cholmod.h>
+
 #include <algorithm>
+#include <cstdlib>
 
 #include <Eigen/OrderingMethods>
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
 #include "core/model.h"
 
 namespace clothsim {
 
-using SparseMat = Eigen::SparseMatrix<Real, Eigen::ColMajor, int>;
-
 struct CholeskyFactor {
   Index n = 0;                  // particles
   std::vector<int> new_index;   // particle -> its place in the ordering (particle_count)
   std::vector<int> spring_pos;  // the spring's block among the off-diagonal blocks of its column (spring_count)
   std::vector<int> up_count;    // off-diagonal blocks above the diagonal in each block column (particle_count)
-  SparseMat a;                  // upper triangle of the permuted matrix (3n x 3n)
-  // Upper: with the natural ordering Eigen factors the input in place, without a permuted copy.
-  Eigen::SimplicialLDLT<SparseMat, Eigen::Upper, Eigen::NaturalOrdering<int>> ldlt;
-  Eigen::VectorXd rhs, sol;     // permuted right-hand side and solution (3n)
+  cholmod_common common{};
+  cholmod_sparse* a = nullptr;  // upper triangle of the permuted matrix (3n x 3n), CHOLMOD's stype 1
+  cholmod_factor* factor = nullptr;
+  // Right-hand side, solution and cholmod_solve2's workspace, allocated once: a solve allocates nothing.
+  cholmod_dense *rhs = nullptr, *sol = nullptr, *work_y = nullptr, *work_e = nullptr;
+
+  CholeskyFactor() { cholmod_start(&common); }
+  ~CholeskyFactor() {
+    cholmod_free_dense(&rhs, &common);
+    cholmod_free_dense(&sol, &common);
+    cholmod_free_dense(&work_y, &common);
+    cholmod_free_dense(&work_e, &common);
+    cholmod_free_factor(&factor, &common);
+    cholmod_free_sparse(&a, &common);
+    cholmod_finish(&common);
+  }
+  CholeskyFactor(const CholeskyFactor&) = delete;
+  CholeskyFactor& operator=(const CholeskyFactor&) = delete;
 };
 
 void CholeskyFactorDelete::operator()(CholeskyFactor* f) const { delete f; }
 
-CholeskyFactorPtr build_cholesky_factor(const Model& m) {
-  CholeskyFactorPtr f(new CholeskyFactor);
+namespace {
+
+// Approximate minimum degree (Amestoy, Davis & Duff 1996) on the particle graph: particle -> its place.
+std::vector<int> block_ordering(const Model& m) {
   const Index n = m.particle_count;
-  f->n = n;
-  // Particle graph, both triangles, for the ordering.
+  using Graph = Eigen::SparseMatrix<Real, Eigen::ColMajor, int>;
   std::vector<Eigen::Triplet<Real, int>> entries;
   entries.reserve(std::size_t(n) + 2 * std::size_t(m.spring_count));
   for (Index i = 0; i < n; ++i) entries.emplace_back(i, i, 1);
@@ -37,12 +53,33 @@ CholeskyFactorPtr build_cholesky_factor(const Model& m) {
     entries.emplace_back(m.spring_a[s], m.spring_b[s], 1);
     entries.emplace_back(m.spring_b[s], m.spring_a[s], 1);
   }
-  SparseMat graph(n, n);
+  Graph graph(n, n);
   graph.setFromTriplets(entries.begin(), entries.end());
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> old_of_new;  // AMD returns the inverse permutation
   Eigen::AMDOrdering<int>()(graph, old_of_new);
-  f->new_index.assign(std::size_t(n), 0);
-  for (Index k = 0; k < n; ++k) f->new_index[std::size_t(old_of_new.indices()[k])] = k;
+  std::vector<int> new_index(std::size_t(n), 0);
+  for (Index k = 0; k < n; ++k) new_index[std::size_t(old_of_new.indices()[k])] = k;
+  return new_index;
+}
+
+// Debian's CHOLMOD runs parts of its supernodal factorisation in OpenMP teams of a fixed 4 threads: on top of
+// the step's own threads they cost more than they save (the dress of docs/performance.md: 0.27 s a factorisation
+// with them, 0.12 s without, 2.2 s of its 4.6 s run in the kernel). Inactive parallel regions run serially;
+// max-active-levels is a per-thread setting, so it is set in the thread that factorises, before each call. Looked
+// up at run time so that clothsim links no OpenMP runtime of its own.
+void serialise_openmp() {
+  using SetLevels = void (*)(int);
+  static const auto set_levels = reinterpret_cast<SetLevels>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
+  if (set_levels) set_levels(0);
+}
+
+}  // namespace
+
+CholeskyFactorPtr build_cholesky_factor(const Model& m) {
+  CholeskyFactorPtr f(new CholeskyFactor);
+  const Index n = m.particle_count;
+  f->n = n;
+  f->new_index = block_ordering(m);
 
   // Each block column J's neighbours I < J, sorted: the order of their rows in every scalar column of J.
   std::vector<std::vector<int>> above(static_cast<std::size_t>(n));
@@ -67,34 +104,44 @@ CholeskyFactorPtr build_cholesky_factor(const Model& m) {
     f->spring_pos[std::size_t(s)] = int(std::lower_bound(rows.begin(), rows.end(), std::min(pa, pb)) - rows.begin());
   }
   // The scalar pattern: column 3J + c holds rows 3I..3I+2 of each neighbour I, then the diagonal rows 3J..3J+c.
-  f->a.resize(3 * n, 3 * n);
-  f->a.resizeNonZeros(Eigen::Index(nnz));
-  int* outer = f->a.outerIndexPtr();
-  int* inner = f->a.innerIndexPtr();
+  cholmod_common& c = f->common;
+  const auto dim = std::size_t(3 * n);
+  f->a = cholmod_allocate_sparse(dim, dim, nnz, /*sorted=*/1, /*packed=*/1, /*stype=*/1, CHOLMOD_REAL, &c);
+  int* outer = static_cast<int*>(f->a->p);
+  int* inner = static_cast<int*>(f->a->i);
   int at = 0;
   for (Index j = 0; j < n; ++j)
-    for (int c = 0; c < 3; ++c) {
-      outer[3 * j + c] = at;
+    for (int col = 0; col < 3; ++col) {
+      outer[3 * j + col] = at;
       for (int i : above[std::size_t(j)])
         for (int r = 0; r < 3; ++r) inner[at++] = 3 * i + r;
-      for (int r = 0; r <= c; ++r) inner[at++] = 3 * j + r;
+      for (int r = 0; r <= col; ++r) inner[at++] = 3 * j + r;
     }
   outer[3 * n] = at;
-  std::fill_n(f->a.valuePtr(), nnz, Real(0));
-  for (Index j = 0; j < n; ++j) f->a.coeffRef(3 * j, 3 * j) = 1;  // any SPD values: the analysis reads the pattern
-  f->ldlt.analyzePattern(f->a);
-  f->rhs.setZero(3 * n);
-  f->sol.setZero(3 * n);
+  std::fill_n(static_cast<Real*>(f->a->x), nnz, Real(0));
+  // The ordering is the block AMD above (whole 3x3 blocks, so each particle's rows form a supernode together);
+  // the supernodal factorisation runs the dense blocks through BLAS (Davis 2006, ch. 9; Chen et al. 2008).
+  c.nmethods = 1;
+  c.method[0].ordering = CHOLMOD_NATURAL;
+  c.postorder = 1;
+  c.supernodal = CHOLMOD_SUPERNODAL;
+  c.final_ll = 1;
+  c.print = 0;
+  c.error_handler = nullptr;
+  f->factor = cholmod_analyze(f->a, &c);  // reads the pattern only
+  f->rhs = cholmod_zeros(dim, 1, CHOLMOD_REAL, &c);
+  f->sol = cholmod_zeros(dim, 1, CHOLMOD_REAL, &c);
+  if (!f->factor || !f->rhs || !f->sol) std::abort();  // out of memory while sizing the workspace
   return f;
 }
 
-void cholesky_clear(CholeskyFactor& f) { std::fill_n(f.a.valuePtr(), f.a.nonZeros(), Real(0)); }
+void cholesky_clear(CholeskyFactor& f) { std::fill_n(static_cast<Real*>(f.a->x), f.a->nzmax, Real(0)); }
 
 void cholesky_add_diagonal(CholeskyFactor& f, Index particle, const Sym3& block) {
   const int j = f.new_index[std::size_t(particle)];
   const Mat3 b = block.full();
-  Real* v = f.a.valuePtr();
-  const int* outer = f.a.outerIndexPtr();
+  Real* v = static_cast<Real*>(f.a->x);
+  const int* outer = static_cast<const int*>(f.a->p);
   for (int c = 0; c < 3; ++c) {
     const int diag = outer[3 * j + c] + 3 * f.up_count[std::size_t(j)];
     for (int r = 0; r <= c; ++r) v[diag + r] += b(r, c);
@@ -105,29 +152,40 @@ void cholesky_add_coupling(CholeskyFactor& f, Index spring, const Sym3& block, I
   const int pa = f.new_index[std::size_t(a)], pb = f.new_index[std::size_t(b)];
   const int j = std::max(pa, pb), first = 3 * f.spring_pos[std::size_t(spring)];
   const Mat3 m = block.full();  // symmetric, so the (a, b) and (b, a) blocks are the same
-  Real* v = f.a.valuePtr();
-  const int* outer = f.a.outerIndexPtr();
+  Real* v = static_cast<Real*>(f.a->x);
+  const int* outer = static_cast<const int*>(f.a->p);
   for (int c = 0; c < 3; ++c)
     for (int r = 0; r < 3; ++r) v[outer[3 * j + c] + first + r] -= m(r, c);
 }
 
 bool cholesky_factorize(CholeskyFactor& f) {
-  f.ldlt.factorize(f.a);
-  return f.ldlt.info() == Eigen::Success && (f.ldlt.vectorD().array() > 0).all();
+  serialise_openmp();
+  const int ok = cholmod_factorize(f.a, f.factor, &f.common);
+  return ok && f.common.status == CHOLMOD_OK && f.factor->minor == f.factor->n;
 }
 
 void cholesky_solve(CholeskyFactor& f, const Vec3* r, Vec3* z) {
-  for (Index i = 0; i < f.n; ++i) f.rhs.segment<3>(3 * f.new_index[std::size_t(i)]) = r[i];
-  f.sol = f.ldlt.solve(f.rhs);
-  for (Index i = 0; i < f.n; ++i) z[i] = f.sol.segment<3>(3 * f.new_index[std::size_t(i)]);
+  Real* rhs = static_cast<Real*>(f.rhs->x);
+  for (Index i = 0; i < f.n; ++i) {
+    const std::size_t at = 3 * std::size_t(f.new_index[std::size_t(i)]);
+    for (int k = 0; k < 3; ++k) rhs[at + std::size_t(k)] = r[i][k];
+  }
+  cholmod_solve2(CHOLMOD_A, f.factor, f.rhs, nullptr, &f.sol, nullptr, &f.work_y, &f.work_e, &f.common);
+  const Real* sol = static_cast<const Real*>(f.sol->x);
+  for (Index i = 0; i < f.n; ++i) {
+    const std::size_t at = 3 * std::size_t(f.new_index[std::size_t(i)]);
+    z[i] = Vec3(sol[at], sol[at + 1], sol[at + 2]);
+  }
 }
 
 std::size_t cholesky_bytes(const CholeskyFactor& f) {
-  const auto nnz = std::size_t(f.a.nonZeros());
-  const auto factor = std::size_t(f.ldlt.matrixL().nestedExpression().nonZeros());
-  return (nnz + factor) * (sizeof(Real) + sizeof(int)) +
+  const auto nnz = std::size_t(f.a->nzmax);
+  // A supernodal factor's values (xsize) and row indices (ssize); a simplicial one's nzmax of each.
+  const std::size_t values = f.factor->is_super ? f.factor->xsize : f.factor->nzmax;
+  const std::size_t rows = f.factor->is_super ? f.factor->ssize : f.factor->nzmax;
+  return nnz * (sizeof(Real) + sizeof(int)) + values * sizeof(Real) + rows * sizeof(int) +
          (f.new_index.size() + f.spring_pos.size() + f.up_count.size()) * sizeof(int) +
-         std::size_t(f.rhs.size() + f.sol.size() + f.ldlt.vectorD().size()) * sizeof(Real);
+         4 * std::size_t(3 * f.n) * sizeof(Real);
 }
 
 }  // namespace clothsim

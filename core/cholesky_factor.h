@@ -1,10 +1,13 @@
 #pragma once
-// The sparse LDL^T factorisation of the implicit step's matrix (preconditioner="cholesky"): the matrix's
+// The sparse Cholesky factorisation of the implicit step's matrix (preconditioner="cholesky"): the matrix's
 // pattern is fixed for the run (one 3x3 block per particle and per spring), so the fill-reducing ordering and
 // the symbolic factorisation are computed once when the workspace is made, and each refactorisation is numeric
 // only (Davis 2006, "Direct Methods for Sparse Linear Systems", ch. 4 and 7). The ordering is approximate
 // minimum degree (Amestoy, Davis & Duff 1996) on the particle graph, applied to whole 3x3 blocks, so a block's
 // three rows stay adjacent and each spring's block lands in one contiguous run of every column it touches.
+// CHOLMOD's supernodal LL^T (Chen, Davis, Hager & Rajamanickam 2008) factors it: the dense blocks of columns
+// with the same pattern go through BLAS. On the knife-pleat dress (47k unknowns, 4.8 M entries in L) it factors
+// 2.7x and solves 1.7x faster than Eigen's simplicial LDL^T did (docs/performance.md).
 #include <memory>
 #include <vector>
 
@@ -13,7 +16,7 @@
 namespace clothsim {
 
 struct Model;
-struct CholeskyFactor;  // Eigen's sparse matrix and SimplicialLDLT (core/cholesky_factor.cpp)
+struct CholeskyFactor;  // CHOLMOD's matrix, factor and solve vectors (core/cholesky_factor.cpp)
 
 struct CholeskyFactorDelete {
   void operator()(CholeskyFactor* f) const;
@@ -29,6 +32,7 @@ void cholesky_add_diagonal(CholeskyFactor& f, Index particle, const Sym3& block)
 // Adds -block at (a, b) and (b, a): a spring's coupling (A p)_a = ... - B_s p_b.
 void cholesky_add_coupling(CholeskyFactor& f, Index spring, const Sym3& block, Index a, Index b);
 // Numeric factorisation of the values set; false when the matrix is not positive definite.
+// Single-threaded: the same bytes at any thread count.
 bool cholesky_factorize(CholeskyFactor& f);
 // z = A^-1 r with the last factorisation (particle vectors in the original order).
 void cholesky_solve(CholeskyFactor& f, const Vec3* r, Vec3* z);

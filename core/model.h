@@ -151,11 +151,14 @@ struct Workspace {
   // multigrid preconditioner: its output z = B r (particle_count, or 0 without it) and its levels
   std::vector<Vec3> cg_z;
   Multigrid multigrid;
-  // sparse LDL^T preconditioner (core/cholesky_factor.h; null without it): refactored when the step changes or
+  // sparse Cholesky preconditioner (core/cholesky_factor.h; null without it): refactored when the step changes or
   // the last solve needed more than a few CG iterations with the factor it has
   CholeskyFactorPtr cholesky;
   Real cholesky_h = 0;              // the step the factor was built for; 0 = no valid factor
   int cholesky_last_iterations = 0;  // CG iterations of the last solve it preconditioned
+  int cholesky_solves = 0;           // solves preconditioned by the current factor
+  int cholesky_renew_run = 0;        // length of the current run of every-solve refactorisations (0: none)
+  int cholesky_renew_left = 0;       // refactorisations left in it
   CollisionScratch collision;      // sized only when model.collision.enabled
 };
 

@@ -1,12 +1,26 @@
 #include "systems/cholesky_preconditioner.h"
 
+#include <algorithm>
+
 #include "systems/implicit_system.h"
 
 namespace clothsim {
 
 int refresh_cholesky(const Model& m, Real h, Workspace& ws) {
-  const bool due = ws.cholesky_h != h || ws.cholesky_last_iterations > cholesky_refactor_iterations;
+  const bool stale = ws.cholesky_last_iterations > cholesky_refactor_iterations;
+  if (stale) {
+    // Stale at its first reuse (a fresh solve, then one with the factor a step old): renew it at each of the
+    // next solves, a run that doubles each time this recurs, before trying to reuse one again.
+    if (ws.cholesky_solves == 2) {
+      ws.cholesky_renew_run = std::clamp(2 * ws.cholesky_renew_run, cholesky_renew_first, cholesky_renew_most);
+      ws.cholesky_renew_left = ws.cholesky_renew_run;
+    } else {
+      ws.cholesky_renew_run = 0;
+    }
+  }
+  const bool due = ws.cholesky_h != h || stale || ws.cholesky_renew_left > 0;
   if (!due) return 0;
+  if (ws.cholesky_renew_left > 0) --ws.cholesky_renew_left;
   CholeskyFactor& f = *ws.cholesky;
   cholesky_clear(f);
   // The filter of Baraff & Witkin §5.3 with S = 0: a pinned particle's row and column are the identity's, and
@@ -30,6 +44,7 @@ int refresh_cholesky(const Model& m, Real h, Workspace& ws) {
   }
   ws.cholesky_h = cholesky_factorize(f) ? h : 0;
   ws.cholesky_last_iterations = 0;
+  ws.cholesky_solves = 0;
   return 1;
 }
 

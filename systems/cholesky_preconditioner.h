@@ -1,5 +1,5 @@
 #pragma once
-// The sparse LDL^T preconditioner of the implicit step's CG (preconditioner="cholesky"; core/cholesky_factor.h).
+// The sparse Cholesky preconditioner of the implicit step's CG (preconditioner="cholesky"; core/cholesky_factor.h).
 //
 // Slivers and stiff springs leave the matrix ill-conditioned in ways that neither block-Jacobi nor aggregation
 // multigrid sees (a sliver's short edge is a stiffness outlier local to one particle pair, not a smooth mode),
@@ -7,7 +7,11 @@
 // factorisation is the expensive part, so it is kept while it still preconditions well: the matrix changes
 // slowly from step to step (the spring directions turn), and CG with the factor of a nearby matrix converges in
 // a few iterations. It is refactored numerically when the step size changes or the previous solve needed more
-// than cholesky_refactor_iterations. Single-threaded, so its result is the same at any thread count.
+// than cholesky_refactor_iterations. A very stiff cloth's factor can go stale within one step (on the
+// knife-pleat dress at 1/120 s a one-step-old factor needs 35 to 90 iterations, a fresh one 1): when a factor
+// fails its first reuse, it is renewed at every solve for a run of cholesky_renew_first solves, doubling each
+// time that recurs (up to cholesky_renew_most) and reset once a factor outlives its first reuse. The rule reads
+// iteration counts only, never clocks, so the same scene makes the same choices at any thread count.
 #include <span>
 
 #include "core/model.h"
@@ -16,6 +20,9 @@ namespace clothsim {
 
 // CG iterations above which the next solve refactors the matrix first.
 inline constexpr int cholesky_refactor_iterations = 8;
+// The first and the longest run of solves that renew the factor every time.
+inline constexpr int cholesky_renew_first = 16;
+inline constexpr int cholesky_renew_most = 256;
 
 // Refactors when due; ws.spring_block and ws.cg_precond (the inverse diagonal blocks) must be current. Returns
 // the number of numeric factorisations done (0 or 1). A failed factorisation (the matrix not positive definite

@@ -133,6 +133,7 @@ CgResult solve_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3
     case Preconditioner::cholesky: {
       const CgResult res = run_cg<Preconditioner::cholesky>(m, opt, x, ws, h, layout);
       ws.cholesky_last_iterations = res.iterations;
+      ++ws.cholesky_solves;
       return res;
     }
     case Preconditioner::jacobi: break;

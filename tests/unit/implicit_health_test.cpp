@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "core/memory_bytes.h"
+#include "systems/cholesky_preconditioner.h"
 #include "systems/integrate_implicit.h"
 #include "systems/step.h"
 #include "tests/support/scene_fixtures.h"
@@ -97,4 +98,43 @@ TEST_CASE("the Cholesky-preconditioned implicit run is byte-identical at 1 and 2
   REQUIRE(runs[0].x.size() == runs[1].x.size());
   CHECK(std::memcmp(runs[0].x.data(), runs[1].x.data(), runs[0].x.size() * sizeof(Vec3)) == 0);
   CHECK(std::memcmp(runs[0].v.data(), runs[1].v.data(), runs[0].v.size() * sizeof(Vec3)) == 0);
+}
+
+TEST_CASE("a Cholesky factor stale at its first reuse is renewed at every solve for a run that doubles") {
+  BuiltScene s = stiff_sheet(Preconditioner::cholesky);
+  Workspace ws = make_workspace(s.model, s.options);
+  const Real h = 1.0 / 120;
+  const State& st = s.state;
+  // The step's matrix (spring blocks, diagonal) for refresh_cholesky, then a fresh factor.
+  State out = s.state;
+  implicit_step(s, st, out, ws, h);
+  REQUIRE(ws.cholesky_h == h);
+  REQUIRE(ws.cholesky_solves == 1);
+  // What the solves report is set by hand: n solves of `iterations` each with the factor in place.
+  auto solves = [&](int n, int iterations) {
+    int factorizations = 0;
+    for (int k = 0; k < n; ++k) {
+      factorizations += refresh_cholesky(s.model, h, ws);
+      ws.cholesky_last_iterations = iterations;
+      ++ws.cholesky_solves;
+    }
+    return factorizations;
+  };
+  // Reused once (its second solve), needing more than cholesky_refactor_iterations: each of the next 16 solves
+  // gets a fresh factor; then one is reused again, and each time that fails at once the run doubles, up to 256.
+  for (int run : {16, 32, 64, 128, 256, 256}) {
+    CAPTURE(run);
+    REQUIRE(ws.cholesky_solves == 1);
+    CHECK(solves(1, cholesky_refactor_iterations + 1) == 0);
+    CHECK(solves(run, 1) == run);
+    CHECK(ws.cholesky_renew_left == 0);
+  }
+  CHECK(cholesky_renew_most == 256);
+  // A factor that serves a reuse well and goes stale at its third solve ends the runs: one refactorisation,
+  // then reuse.
+  CHECK(solves(1, 1) == 0);
+  CHECK(solves(1, cholesky_refactor_iterations + 1) == 0);
+  CHECK(solves(1, 1) == 1);
+  CHECK(ws.cholesky_renew_run == 0);
+  CHECK(solves(3, 1) == 0);
 }
