@@ -42,6 +42,19 @@ void CholeskyFactorDelete::operator()(CholeskyFactor* f) const { delete f; }
 
 namespace {
 
+// Calls pair(a, b) for each pair of particles the matrix couples: the ends of every spring, and each two distinct
+// particles of a stitch (the vertex and the two it is sewn between), so a seam between panels is in the pattern.
+template <class Pair>
+void for_each_coupled_pair(const Model& m, Pair&& pair) {
+  for (Index s = 0; s < m.spring_count; ++s) pair(m.spring_a[s], m.spring_b[s]);
+  for (Index s = 0; s < m.stitch_count; ++s) {
+    const Index p[3] = {m.stitch_a[s], m.stitch_b[s], m.stitch_c[s]};
+    for (int k = 0; k < 3; ++k)
+      for (int l = k + 1; l < 3; ++l)
+        if (p[k] != p[l]) pair(p[k], p[l]);
+  }
+}
+
 // Approximate minimum degree (Amestoy, Davis & Duff 1996) on the particle graph: particle -> its place.
 std::vector<int> block_ordering(const Model& m) {
   const Index n = m.particle_count;
@@ -49,10 +62,10 @@ std::vector<int> block_ordering(const Model& m) {
   std::vector<Eigen::Triplet<Real, int>> entries;
   entries.reserve(std::size_t(n) + 2 * std::size_t(m.spring_count));
   for (Index i = 0; i < n; ++i) entries.emplace_back(i, i, 1);
-  for (Index s = 0; s < m.spring_count; ++s) {
-    entries.emplace_back(m.spring_a[s], m.spring_b[s], 1);
-    entries.emplace_back(m.spring_b[s], m.spring_a[s], 1);
-  }
+  for_each_coupled_pair(m, [&](Index a, Index b) {
+    entries.emplace_back(a, b, 1);
+    entries.emplace_back(b, a, 1);
+  });
   Graph graph(n, n);
   graph.setFromTriplets(entries.begin(), entries.end());
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> old_of_new;  // AMD returns the inverse permutation
@@ -83,10 +96,10 @@ CholeskyFactorPtr build_cholesky_factor(const Model& m) {
 
   // Each block column J's neighbours I < J, sorted: the order of their rows in every scalar column of J.
   std::vector<std::vector<int>> above(static_cast<std::size_t>(n));
-  for (Index s = 0; s < m.spring_count; ++s) {
-    const int pa = f->new_index[std::size_t(m.spring_a[s])], pb = f->new_index[std::size_t(m.spring_b[s])];
+  for_each_coupled_pair(m, [&](Index a, Index b) {
+    const int pa = f->new_index[std::size_t(a)], pb = f->new_index[std::size_t(b)];
     if (pa != pb) above[std::size_t(std::max(pa, pb))].push_back(std::min(pa, pb));
-  }
+  });
   f->up_count.assign(std::size_t(n), 0);
   std::size_t nnz = 0;
   for (auto& rows : above) {
@@ -156,6 +169,20 @@ void cholesky_add_coupling(CholeskyFactor& f, Index spring, const Sym3& block, I
   const int* outer = static_cast<const int*>(f.a->p);
   for (int c = 0; c < 3; ++c)
     for (int r = 0; r < 3; ++r) v[outer[3 * j + c] + first + r] -= m(r, c);
+}
+
+void cholesky_add_block(CholeskyFactor& f, Index a, Index b, const Sym3& block) {
+  const int pa = f.new_index[std::size_t(a)], pb = f.new_index[std::size_t(b)];
+  const int i = std::min(pa, pb), j = std::max(pa, pb);
+  const int* outer = static_cast<const int*>(f.a->p);
+  const int* inner = static_cast<const int*>(f.a->i);
+  // Block row I's first entry in column 3J: the pattern's rows are sorted, the neighbours' before the diagonal.
+  const int first = int(std::lower_bound(inner + outer[3 * j], inner + outer[3 * j] + 3 * f.up_count[std::size_t(j)],
+                                         3 * i) - inner) - outer[3 * j];
+  const Mat3 m = block.full();
+  Real* v = static_cast<Real*>(f.a->x);
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) v[outer[3 * j + c] + first + r] += m(r, c);
 }
 
 bool cholesky_factorize(CholeskyFactor& f) {

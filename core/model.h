@@ -152,10 +152,9 @@ struct Workspace {
   std::vector<Vec3> cg_z;
   Multigrid multigrid;
   // sparse Cholesky preconditioner (core/cholesky_factor.h; null without it): refactored when the step changes or
-  // the last solve needed more than a few CG iterations with the factor it has
+  // a solve does not converge in a few CG iterations with the factor it has (systems/cholesky_preconditioner.h)
   CholeskyFactorPtr cholesky;
   Real cholesky_h = 0;              // the step the factor was built for; 0 = no valid factor
-  int cholesky_last_iterations = 0;  // CG iterations of the last solve it preconditioned
   int cholesky_solves = 0;           // solves preconditioned by the current factor
   int cholesky_renew_run = 0;        // length of the current run of every-solve refactorisations (0: none)
   int cholesky_renew_left = 0;       // refactorisations left in it

@@ -32,9 +32,13 @@ void Simulation::resume(State state, int frame) {
 std::string describe_failure(const SolverOptions& solver, const StepFailure& f, int frame) {
   char text[400];
   if (f.verdict == StepVerdict::failed_solve && !f.solve.converged)
+    // With the Cholesky factor CG stalls only where the factorisation failed (not positive definite in floating
+    // point) and the solve fell back to block-Jacobi: a smaller step makes the matrix better conditioned.
     std::snprintf(text, sizeof text, "frame %d: CG stopped at relative residual %.3g above cgTolerance %.3g "
-                  "(cgMaxIterations %d): raise cgMaxIterations or use preconditioner=\"cholesky\"", frame,
-                  f.solve.cg_residual, solver.cg_tolerance, solver.cg_max_iterations);
+                  "(cgMaxIterations %d): raise cgMaxIterations or %s", frame, f.solve.cg_residual,
+                  solver.cg_tolerance, solver.cg_max_iterations,
+                  solver.preconditioner == Preconditioner::cholesky ? "take a smaller timestep"
+                                                                    : "use preconditioner=\"cholesky\"");
   else if (f.verdict == StepVerdict::failed_solve)
     std::snprintf(text, sizeof text, "frame %d: a Newton correction raised the backward-Euler residual: take a "
                   "smaller timestep", frame);

@@ -1,26 +1,17 @@
 #include "systems/cholesky_preconditioner.h"
 
 #include <algorithm>
+#include <array>
 
 #include "systems/implicit_system.h"
+#include "systems/stitch_forces.h"
 
 namespace clothsim {
 
-int refresh_cholesky(const Model& m, Real h, Workspace& ws) {
-  const bool stale = ws.cholesky_last_iterations > cholesky_refactor_iterations;
-  if (stale) {
-    // Stale at its first reuse (a fresh solve, then one with the factor a step old): renew it at each of the
-    // next solves, a run that doubles each time this recurs, before trying to reuse one again.
-    if (ws.cholesky_solves == 2) {
-      ws.cholesky_renew_run = std::clamp(2 * ws.cholesky_renew_run, cholesky_renew_first, cholesky_renew_most);
-      ws.cholesky_renew_left = ws.cholesky_renew_run;
-    } else {
-      ws.cholesky_renew_run = 0;
-    }
-  }
-  const bool due = ws.cholesky_h != h || stale || ws.cholesky_renew_left > 0;
-  if (!due) return 0;
-  if (ws.cholesky_renew_left > 0) --ws.cholesky_renew_left;
+namespace {
+
+// Numeric refactorisation of the step's matrix; ws.spring_block and the particle terms must be current.
+void factor_now(const Model& m, Real h, Workspace& ws) {
   CholeskyFactor& f = *ws.cholesky;
   cholesky_clear(f);
   // The filter of Baraff & Witkin §5.3 with S = 0: a pinned particle's row and column are the identity's, and
@@ -42,9 +33,43 @@ int refresh_cholesky(const Model& m, Real h, Workspace& ws) {
     if (a != b && m.particle_inv_mass[a] > 0 && m.particle_inv_mass[b] > 0)
       cholesky_add_coupling(f, s, ws.spring_block[s], a, b);
   }
+  // Stitches: (h kd + h^2 ke) c_k c_l I between their particles k, l (systems/stitch_forces.h), the same terms
+  // the CG's product applies; without them the factor of a sewn garment misses its seams and CG stalls.
+  for (Index s = 0; s < m.stitch_count; ++s) {
+    const std::array<Index, 3> p = stitch_particles(m, s);
+    const std::array<Real, 3> c = stitch_coefficients(m.stitch_w[s]);
+    const Real coef = h * m.stitch_kd[s] + h * h * m.stitch_ke[s];
+    for (int k = 0; k < 3; ++k)
+      for (int l = 0; l < 3; ++l) {
+        if (!(m.particle_inv_mass[p[k]] > 0) || !(m.particle_inv_mass[p[l]] > 0)) continue;
+        const Sym3 block = Sym3::from((coef * c[k] * c[l]) * Mat3::Identity());
+        if (p[k] == p[l]) cholesky_add_diagonal(f, p[k], block);
+        else if (k < l) cholesky_add_block(f, p[k], p[l], block);
+      }
+  }
   ws.cholesky_h = cholesky_factorize(f) ? h : 0;
-  ws.cholesky_last_iterations = 0;
   ws.cholesky_solves = 0;
+}
+
+}  // namespace
+
+int refresh_cholesky(const Model& m, Real h, Workspace& ws) {
+  if (ws.cholesky_h == h && ws.cholesky_renew_left == 0) return 0;
+  if (ws.cholesky_renew_left > 0) --ws.cholesky_renew_left;
+  factor_now(m, h, ws);
+  return 1;
+}
+
+int renew_stale_cholesky(const Model& m, Real h, Workspace& ws) {
+  // Stale at its first reuse (one solve with it fresh, this one with it a solve old): renew it before each of
+  // the next solves, a run that doubles each time this recurs; a factor that served a reuse ends the runs.
+  if (ws.cholesky_solves == 1) {
+    ws.cholesky_renew_run = std::clamp(2 * ws.cholesky_renew_run, cholesky_renew_first, cholesky_renew_most);
+    ws.cholesky_renew_left = ws.cholesky_renew_run;
+  } else {
+    ws.cholesky_renew_run = 0;
+  }
+  factor_now(m, h, ws);
   return 1;
 }
 

@@ -6,28 +6,34 @@
 // while an exact factorisation does not care: with a fresh factor CG converges in one iteration. The
 // factorisation is the expensive part, so it is kept while it still preconditions well: the matrix changes
 // slowly from step to step (the spring directions turn), and CG with the factor of a nearby matrix converges in
-// a few iterations. It is refactored numerically when the step size changes or the previous solve needed more
-// than cholesky_refactor_iterations. A very stiff cloth's factor can go stale within one step (on the
-// knife-pleat dress at 1/120 s a one-step-old factor needs 35 to 90 iterations, a fresh one 1): when a factor
-// fails its first reuse, it is renewed at every solve for a run of cholesky_renew_first solves, doubling each
-// time that recurs (up to cholesky_renew_most) and reset once a factor outlives its first reuse. The rule reads
-// iteration counts only, never clocks, so the same scene makes the same choices at any thread count.
+// a few iterations. It is refactored numerically when the step size changes, and a solve with a kept factor
+// that has not converged after cholesky_refactor_iterations is restarted with a fresh one (the restart's
+// iterations count too), so a stale factor costs a few iterations, never a failed solve. A very stiff cloth's
+// factor can go stale within one step (on the knife-pleat dress at 1/120 s a one-step-old factor needs 35 to 90
+// iterations, a fresh one 1): when a factor fails its first reuse, it is renewed before each of the next
+// cholesky_renew_first solves, a run that doubles each time that recurs (up to cholesky_renew_most) and ends
+// once a factor serves a reuse. The rule reads iteration counts only, never clocks, so the same scene makes the
+// same choices at any thread count.
 #include <span>
 
 #include "core/model.h"
 
 namespace clothsim {
 
-// CG iterations above which the next solve refactors the matrix first.
+// CG iterations a kept factor gets before its solve restarts with a fresh one.
 inline constexpr int cholesky_refactor_iterations = 8;
-// The first and the longest run of solves that renew the factor every time.
+// The first and the longest run of solves that each get a fresh factor.
 inline constexpr int cholesky_renew_first = 16;
 inline constexpr int cholesky_renew_most = 256;
 
-// Refactors when due; ws.spring_block and ws.cg_precond (the inverse diagonal blocks) must be current. Returns
-// the number of numeric factorisations done (0 or 1). A failed factorisation (the matrix not positive definite
+// Refactors before a solve when due (no factor for this step size, or a renewal run); ws.spring_block and
+// ws.cg_precond (the inverse diagonal blocks) must be current. Returns the number of numeric factorisations
+// done (0 or 1). A failed factorisation (the matrix not positive definite
 // in floating point) leaves no factor: the solve then falls back to block-Jacobi.
 int refresh_cholesky(const Model& model, Real h, Workspace& ws);
+
+// Refactors after a kept factor failed to finish a solve, and starts or ends a renewal run. Returns 1.
+int renew_stale_cholesky(const Model& model, Real h, Workspace& ws);
 
 // z = B r: the factor's solve, or block-Jacobi while there is no valid factor.
 void apply_cholesky(const Model& model, Workspace& ws, std::span<const Vec3> r, std::span<Vec3> z);

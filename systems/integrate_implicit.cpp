@@ -131,8 +131,19 @@ CgResult solve_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3
   switch (opt.preconditioner) {
     case Preconditioner::multigrid: return run_cg<Preconditioner::multigrid>(m, opt, x, ws, h, layout);
     case Preconditioner::cholesky: {
-      const CgResult res = run_cg<Preconditioner::cholesky>(m, opt, x, ws, h, layout);
-      ws.cholesky_last_iterations = res.iterations;
+      // A factor kept from an earlier solve gets cholesky_refactor_iterations; a solve it has not finished by
+      // then is restarted with a fresh factor (systems/cholesky_preconditioner.h).
+      const bool reused = ws.cholesky_solves > 0 && ws.cholesky_h == h;
+      SolverOptions probe = opt;
+      if (reused) probe.cg_max_iterations = std::min(opt.cg_max_iterations, cholesky_refactor_iterations);
+      CgResult res = run_cg<Preconditioner::cholesky>(m, probe, x, ws, h, layout);
+      if (reused && !(res.residual <= opt.cg_tolerance)) {
+        const int spent = res.iterations;
+        const int renewed = renew_stale_cholesky(m, h, ws);
+        res = run_cg<Preconditioner::cholesky>(m, opt, x, ws, h, layout);
+        res.iterations += spent;
+        res.factorizations = renewed;
+      }
       ++ws.cholesky_solves;
       return res;
     }
@@ -165,6 +176,7 @@ StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const St
     if (opt.preconditioner == Preconditioner::multigrid) build_multigrid_operators(m, h, ws);
     if (opt.preconditioner == Preconditioner::cholesky) record.factorizations += refresh_cholesky(m, h, ws);
     const CgResult cg = solve_cg(m, opt, x, ws, h, layout);
+    record.factorizations += cg.factorizations;
     record.cg_iterations += cg.iterations;
     record.cg_residual = cg.residual;
     if (!(cg.residual <= opt.cg_tolerance)) record.converged = false;

@@ -14,7 +14,8 @@ namespace clothsim {
 
 struct CgResult {
   int iterations = 0;
-  Real residual = 0;  // |r| / |b| at exit (0 when b = 0)
+  Real residual = 0;       // |r| / |b| at exit (0 when b = 0)
+  int factorizations = 0;  // Cholesky factorisations done inside the solve (a stale factor renewed)
 };
 
 // Advances in by h into out; opt.newton_iterations linear solves (the first is Baraff & Witkin's, later ones are

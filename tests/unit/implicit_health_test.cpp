@@ -66,7 +66,7 @@ TEST_CASE("the Cholesky preconditioner solves a step in one CG iteration and kee
   CHECK(r.factorizations == 1);
   CHECK(r.cg_iterations == 1);
   CHECK(r.cg_residual < 1e-10);
-  // The next steps reuse it: a few iterations each, no factorisation until a solve needs more than
+  // The next steps reuse it: a few iterations each, no factorisation unless a solve is not done within
   // cholesky_refactor_iterations.
   int factorizations = 0, iterations = 0;
   for (int k = 0; k < 10; ++k) {
@@ -100,41 +100,41 @@ TEST_CASE("the Cholesky-preconditioned implicit run is byte-identical at 1 and 2
   CHECK(std::memcmp(runs[0].v.data(), runs[1].v.data(), runs[0].v.size() * sizeof(Vec3)) == 0);
 }
 
-TEST_CASE("a Cholesky factor stale at its first reuse is renewed at every solve for a run that doubles") {
+TEST_CASE("a Cholesky factor stale at its first reuse is renewed before each solve for a run that doubles") {
   BuiltScene s = stiff_sheet(Preconditioner::cholesky);
   Workspace ws = make_workspace(s.model, s.options);
   const Real h = 1.0 / 120;
-  const State& st = s.state;
-  // The step's matrix (spring blocks, diagonal) for refresh_cholesky, then a fresh factor.
+  // The step's matrix (spring blocks, diagonal) for the factorisations, and a fresh factor used once.
   State out = s.state;
-  implicit_step(s, st, out, ws, h);
+  implicit_step(s, s.state, out, ws, h);
   REQUIRE(ws.cholesky_h == h);
   REQUIRE(ws.cholesky_solves == 1);
-  // What the solves report is set by hand: n solves of `iterations` each with the factor in place.
-  auto solves = [&](int n, int iterations) {
+  // The bookkeeping of n solves, as solve_cg does it, with whether a kept factor finishes its solve set by hand:
+  // factorisations done.
+  auto solves = [&](int n, bool kept_factor_finishes) {
     int factorizations = 0;
     for (int k = 0; k < n; ++k) {
       factorizations += refresh_cholesky(s.model, h, ws);
-      ws.cholesky_last_iterations = iterations;
+      if (ws.cholesky_solves > 0 && !kept_factor_finishes) factorizations += renew_stale_cholesky(s.model, h, ws);
       ++ws.cholesky_solves;
     }
     return factorizations;
   };
-  // Reused once (its second solve), needing more than cholesky_refactor_iterations: each of the next 16 solves
-  // gets a fresh factor; then one is reused again, and each time that fails at once the run doubles, up to 256.
+  // Failing its first reuse: renewed at once, then before each of the next 16 solves; then a kept factor is
+  // tried again, and each time that fails at once the run doubles, up to 256.
   for (int run : {16, 32, 64, 128, 256, 256}) {
     CAPTURE(run);
     REQUIRE(ws.cholesky_solves == 1);
-    CHECK(solves(1, cholesky_refactor_iterations + 1) == 0);
-    CHECK(solves(run, 1) == run);
+    CHECK(solves(1, false) == 1);
+    CHECK(ws.cholesky_renew_left == run);
+    CHECK(solves(run, false) == run);
     CHECK(ws.cholesky_renew_left == 0);
   }
   CHECK(cholesky_renew_most == 256);
-  // A factor that serves a reuse well and goes stale at its third solve ends the runs: one refactorisation,
-  // then reuse.
-  CHECK(solves(1, 1) == 0);
-  CHECK(solves(1, cholesky_refactor_iterations + 1) == 0);
-  CHECK(solves(1, 1) == 1);
+  // A factor that serves a reuse and fails the next ends the runs: one refactorisation, then reuse.
+  CHECK(solves(1, true) == 0);
+  CHECK(solves(1, false) == 1);
   CHECK(ws.cholesky_renew_run == 0);
-  CHECK(solves(3, 1) == 0);
+  CHECK(ws.cholesky_renew_left == 0);
+  CHECK(solves(3, true) == 0);
 }
