@@ -5,7 +5,7 @@ headless, and in clothsim, in one run, on one machine.
 
   blender -b --factory-startup --python-exit-code 1 --python bench/peer_dress.py -- CLOTHSIM_BIN SCRATCH_DIR \
       [--dress PATH] [--seconds 0.5] [--fps 24] [--quality 5] [--tension 15] [--timestep 0.0083333] \
-      [--preconditioners cholesky,multigrid] [--cg-tolerance 1e-3] [--threads 2]
+      [--preconditioners cholesky,multigrid] [--cg-tolerance 1e-3] [--threads 2] [--stiffness N_PER_M]
 
 bench/peer_dress.sh wraps it and exits 77 (skipped) where blender or the data are missing. Prints one row per run:
 the step, the wall and CPU seconds, the largest edge strain over the frames (measured the same way on both: the
@@ -13,7 +13,8 @@ mesh's edges against their rest lengths in the OBJ), clothsim's CG iterations an
 ratio of Blender's wall and CPU time to each clothsim run's.
 
 Matched model as in bench/peer_blender.py: Blender's spring constant taken as tension / rest length, so clothsim gets
-stiffness = tension / (mean edge length) N/m per spring; the same mass (0.2 kg/m^2 lumped by area in clothsim, the
+stiffness = tension / (mean edge length) N/m per spring unless --stiffness is given (Blender's tension model keeps
+the dress less stretched than that: --stiffness at matched strain is the like-for-like run); the same mass (0.2 kg/m^2 lumped by area in clothsim, the
 total spread evenly over the vertices in Blender); gravity 9.81 m/s^2 along -y.
 """
 import argparse
@@ -37,6 +38,8 @@ ap.add_argument("--seconds", type=float, default=0.5, help="simulated time")
 ap.add_argument("--fps", type=int, default=24)
 ap.add_argument("--quality", type=int, default=5, help="Blender's quality steps (substeps per frame)")
 ap.add_argument("--tension", type=float, default=15.0, help="Blender tension/shear stiffness (its default 15)")
+ap.add_argument("--stiffness", type=float, default=0.0,
+                help="clothsim N/m a spring (default tension / mean edge length); raise it to match Blender's strain")
 ap.add_argument("--timestep", type=float, default=1.0 / 120, help="clothsim step, s")
 ap.add_argument("--preconditioners", default="cholesky,multigrid", help="clothsim runs, comma-separated")
 ap.add_argument("--cg-tolerance", type=float, default=1e-3, help="clothsim implicit: relative CG residual")
@@ -173,7 +176,7 @@ EDGES = np.unique(np.sort(np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris
 REST = np.linalg.norm(verts[EDGES[:, 1]] - verts[EDGES[:, 0]], axis=1)
 area = 0.5 * np.linalg.norm(np.cross(verts[tris[:, 1]] - verts[tris[:, 0]], verts[tris[:, 2]] - verts[tris[:, 0]]),
                             axis=1).sum()
-stiffness = args.tension / REST.mean()
+stiffness = args.stiffness or args.tension / REST.mean()
 runs = [run_clothsim(obj_path, pins, stiffness, p) for p in args.preconditioners.split(",") if p]
 bl = run_blender(verts, tris, pins, 0.2 * area)
 print(f"knife-pleat dress: {len(verts)} vertices, {len(tris)} triangles, {pieces} pieces, {len(pins)} pinned; "

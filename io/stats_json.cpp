@@ -25,6 +25,8 @@ std::string format_stats(const Model& m, const SimOptions& o, const RunStats& s)
     j.field("cg_iterations", s.cg_iterations).field("implicit_failed_steps", s.implicit_failed_steps);
   }
   if (m.strain_limited) j.field("strain_limit_iterations", s.strain_limit_iterations);
+  // The other integrators' steps fail only where the strain limit stops unmet (docs/scene-format.md).
+  if (m.strain_limited && o.integrator != Integrator::implicit) j.field("failed_steps", s.implicit_failed_steps);
   j.field("frames_written", s.frames_written).field("wall_seconds", s.wall_seconds);
   j.key("phases").begin_object()
       .field("load", s.load_seconds)

@@ -27,6 +27,12 @@ void record(FrameSteps& report, const StepResult& result, Integrator integrator)
 }
 }  // namespace
 
+StepVerdict failure_verdict(const StepResult& result, bool strain_jumped) {
+  if (result.strain_limit_exhausted) return StepVerdict::strain_limit;
+  if (result.failed) return StepVerdict::failed_solve;
+  return strain_jumped ? StepVerdict::strain_jump : StepVerdict::none;
+}
+
 const char* verdict_name(StepVerdict v) {
   switch (v) {
     case StepVerdict::none: return "accepted";
@@ -35,6 +41,7 @@ const char* verdict_name(StepVerdict v) {
     case StepVerdict::non_finite: return "non-finite positions or velocities";
     case StepVerdict::strain_jump: return "the largest strain jumped by more than 0.1 in one step";
     case StepVerdict::energy_jump: return "the mechanical energy rose past its bound";
+    case StepVerdict::strain_limit: return "the strain limit stopped at its sweep cap with springs past maxStrain";
   }
   return "";
 }
@@ -53,7 +60,7 @@ Real FrameStepper::energy_rise(const Model& m, const State& state) const {
 void FrameStepper::fixed_frame(const Model& m, const SimOptions& o, State& state, State& scratch, Workspace& ws,
                                FrameSteps& report) {
   // Only backward Euler can fail inside a step without leaving non-finite values; its strain check costs a pass
-  // over the springs, shared between consecutive steps.
+  // over the springs, shared between consecutive steps. Any integrator's strain limit can stop unmet.
   const bool check = o.integrator == Integrator::implicit;
   Real strain = check ? max_spring_strain(m, state.x) : 0;
   for (int k = 0; k < o.steps_per_frame; ++k) {
@@ -61,11 +68,9 @@ void FrameStepper::fixed_frame(const Model& m, const SimOptions& o, State& state
     record(report, result, o.integrator);
     std::swap(state, scratch);
     count_accepted(report, o.dt);
-    if (!check) continue;
+    if (!check && !result.strain_limit_exhausted) continue;
     const Real strain_after = max_spring_strain(m, state.x);
-    const StepVerdict verdict = result.failed                        ? StepVerdict::failed_solve
-                                : strain_after > strain + strain_jump ? StepVerdict::strain_jump
-                                                                      : StepVerdict::none;
+    const StepVerdict verdict = failure_verdict(result, strain_after > strain + strain_jump);
     if (verdict != StepVerdict::none && report.failed++ == 0)
       report.first_failure = {verdict, o.dt, strain, strain_after, result.solve};
     strain = strain_after;
@@ -90,7 +95,7 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
     record(report, result, o.integrator);
     StepVerdict verdict = StepVerdict::none;
     Real strain_after = strain;
-    if (result.failed) verdict = StepVerdict::failed_solve;
+    if (result.failed) verdict = failure_verdict(result, false);
     else if (!state_is_finite(scratch)) verdict = StepVerdict::non_finite;
     else if ((strain_after = max_spring_strain(m, scratch.x)) > strain + strain_jump) verdict = StepVerdict::strain_jump;
     else if (!(energy_rise(m, scratch) <= energy_bound_)) verdict = StepVerdict::energy_jump;

@@ -11,8 +11,10 @@
 namespace clothsim::sim {
 
 // Why a step failed its check; `none` for a sound one.
-enum class StepVerdict { none, failed_solve, non_finite, strain_jump, energy_jump };
+enum class StepVerdict { none, failed_solve, non_finite, strain_jump, energy_jump, strain_limit };
 const char* verdict_name(StepVerdict verdict);
+// A step's own failure (the strain limit's, then the solve's) before the frame loop's checks, or a strain jump.
+StepVerdict failure_verdict(const StepResult& result, bool strain_jumped);
 
 // A step that failed its check and was kept (fixed timestep), as `run` reports it.
 struct StepFailure {

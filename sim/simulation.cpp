@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "sim/step_advice.h"
+#include "systems/strain_limit.h"
 #include "systems/diagnostics.h"
 #include "systems/spring_forces.h"
 #include "systems/stability.h"
@@ -39,6 +40,10 @@ std::string describe_failure(const SolverOptions& solver, const StepFailure& f, 
                   solver.cg_tolerance, solver.cg_max_iterations,
                   solver.preconditioner == Preconditioner::cholesky ? "take a smaller timestep"
                                                                     : "use preconditioner=\"cholesky\"");
+  else if (f.verdict == StepVerdict::strain_limit)
+    std::snprintf(text, sizeof text, "frame %d: the strain limit stopped after %d sweeps with springs still past "
+                  "maxStrain (largest strain %.3g): take a smaller timestep, or raise maxStrain", frame,
+                  strain_limit_max_iterations, f.strain_after);
   else if (f.verdict == StepVerdict::failed_solve)
     std::snprintf(text, sizeof text, "frame %d: a Newton correction raised the backward-Euler residual: take a "
                   "smaller timestep", frame);

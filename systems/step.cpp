@@ -36,7 +36,14 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
   if (model.stitch_count > 0) apply_stitch_limit(model, out, h, in.time + h);
   // Collisions end the step (Bridson et al. 2002 §7): the strain limit's projections move particles without
   // looking at contacts, so run after collisions they could drag cloth back into a body or another layer.
-  if (model.strain_limited) result.counts.strain_sweeps = apply_strain_limit(model, out, h);
+  if (model.strain_limited) {
+    result.counts.strain_sweeps = apply_strain_limit(model, out, h);
+    // Springs left past maxStrain after the last sweep: the step did not do what the scene asked.
+    if (result.counts.strain_sweeps >= strain_limit_max_iterations && !strain_limit_met(model, out.x)) {
+      result.failed = true;
+      result.strain_limit_exhausted = true;
+    }
+  }
   const auto t1 = clock::now();
   const CollideCounts collided = collide(model, in, out, ws, h);
   const auto t2 = clock::now();

@@ -45,6 +45,7 @@ struct StepCounts {
 // step and retries it smaller.
 struct StepResult {
   bool failed = false;
+  bool strain_limit_exhausted = false;  // failed because the strain limit stopped at its sweep cap, unmet
   SolveRecord solve;  // the implicit solve's record (untouched for the explicit integrators)
   StepCounts counts;
 };

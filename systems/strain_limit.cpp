@@ -84,6 +84,10 @@ Real strain_limit_excess(const Model& m, std::span<const Vec3> x) {
   });
 }
 
+bool strain_limit_met(const Model& m, std::span<const Vec3> x) {
+  return strain_limit_excess(m, x) <= 0.5 * strain_limit_tolerance;
+}
+
 int apply_strain_limit(const Model& m, State& out, Real h) {
   // Stop a little inside the guarantee so the last sweep's round-off cannot cross it.
   const Real stop = 0.5 * strain_limit_tolerance;

@@ -32,4 +32,8 @@ Real strain_limit_excess(const Model& model, std::span<const Vec3> x);
 // the sweeps taken (0 when the tethers alone were enough).
 int apply_strain_limit(const Model& model, State& out, Real h);
 
+// Whether every limited spring is within its limit + strain_limit_tolerance / 2: what apply_strain_limit ends
+// with unless it stopped at strain_limit_max_iterations (a limit the cloth cannot meet in one step, or at all).
+bool strain_limit_met(const Model& model, std::span<const Vec3> x);
+
 }  // namespace clothsim

@@ -138,6 +138,37 @@ TEST_CASE("an implicit run that tears a spring is told why, not that its converg
   CHECK(r.output.find("linear solve failed") == std::string::npos);
 }
 
+TEST_CASE("a strain limit the cloth cannot meet is warned about, not written as if it held") {
+  // A 3 x 3 vertex sheet of 1 m whose rest mesh is the same sheet at 0.85 of its size, pinned at two opposite
+  // corners: every path of springs between the pins is 1/0.85 = 1.176 times its rest length, past maxStrain 0.1,
+  // so no placement of the free vertices meets the limit and every step's sweeps stop at the cap.
+  const auto dir = scratch_dir("strain_limit_unmet");
+  auto sheet = [](double size) {
+    std::string obj;
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) obj += "v " + std::to_string(0.5 * size * i) + " 0 " + std::to_string(0.5 * size * j) + "\n";
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) {
+        const int a = 1 + j * 3 + i;
+        obj += "f " + std::to_string(a) + " " + std::to_string(a + 1) + " " + std::to_string(a + 4) + "\n";
+        obj += "f " + std::to_string(a) + " " + std::to_string(a + 4) + " " + std::to_string(a + 3) + "\n";
+      }
+    return obj;
+  };
+  write_text(dir / "sheet.obj", sheet(1.0));
+  write_text(dir / "rest.obj", sheet(0.85));
+  write_text(dir / "scene.xml",
+             "<scene>\n  <simulation timestep=\"0.001\" fps=\"100\" endFrame=\"2\" integrator=\"symplectic\"/>\n"
+             "  <cloth name=\"sheet\" obj=\"sheet.obj\" rest=\"rest.obj\" maxStrain=\"0.1\" saveDir=\"out\">\n"
+             "    <stiffness value=\"10\"/>\n    <pins vertices=\"0 8\"/>\n  </cloth>\n</scene>\n");
+  const CliResult r = run_cli("run " + (dir / "scene.xml").string() + " --quiet --stats " + (dir / "s.json").string());
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("10 of 10 steps failed their check") != std::string::npos);
+  CHECK(r.output.find("the strain limit stopped after 500 sweeps with springs still past maxStrain") !=
+        std::string::npos);
+  CHECK(read_text(dir / "s.json").find("\"failed_steps\":10") != std::string::npos);
+}
+
 TEST_CASE("implicit run: byte-identical frames at 1 and 2 threads, CG figures per step in --stats") {
   const auto dir = scratch_dir("implicit_threads");
   write_text(dir / "scene.xml", sheet_scene("timestep=\"0.01\" fps=\"24\" endFrame=\"6\" integrator=\"implicit\" "

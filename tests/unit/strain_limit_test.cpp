@@ -297,3 +297,19 @@ TEST_CASE("the strain limit gives the same bytes at 1, 2 and 3 threads") {
     CHECK(std::memcmp(results[t].v.data(), results[0].v.data(), results[0].v.size() * sizeof(Vec3)) == 0);
   }
 }
+
+TEST_CASE("a limit the chain cannot meet stops at the sweep cap and is reported unmet") {
+  // Two springs of rest 1 between pins 3 m apart: with maxStrain 0.2 they can span 2.4 m at most, so every sweep
+  // moves the middle particle between its two limits and none ends within both.
+  BuiltScene s = chain(2, 1.5, 0.2, true);
+  s.model.particle_inv_mass[2] = 0;
+  s.model.pinned = {0, 2};
+  build_tethers(s.model, s.state.x, std::vector<char>{0});
+  CHECK_FALSE(strain_limit_met(s.model, s.state.x));
+  CHECK(apply_strain_limit(s.model, s.state, 0.1) == strain_limit_max_iterations);
+  CHECK_FALSE(strain_limit_met(s.model, s.state.x));
+  // The same chain with a free end meets it (the tethers alone do it).
+  BuiltScene ok = chain(2, 1.5, 0.2, true);
+  CHECK(apply_strain_limit(ok.model, ok.state, 0.1) < strain_limit_max_iterations);
+  CHECK(strain_limit_met(ok.model, ok.state.x));
+}
