@@ -4,7 +4,7 @@ several qualities and for clothsim's integrators at several steps and stiffnesse
 process on one machine.
 
   blender -b --factory-startup --python-exit-code 1 --python bench/peer_chart.py -- CLOTHSIM_BIN SCRATCH OUT \
-      [--seconds 0.5] [--qualities 1,2,...,10] [--steps 24,48,60,80,120,240,480] \
+      [--seconds 0.5] [--qualities 1,2,...,10] [--steps 24,48,72,96,120,240,480] \
       [--stiffnesses matched,200000,1000000] [--symplectic matched] [--repeats 3] [--blender-repeats 1] \
       [--blender-air-damping X] [--threads 2] [--tension 15] [--side 128] [--match 1.25]
 
@@ -47,7 +47,8 @@ ap.add_argument("--seconds", type=float, default=0.5, help="simulated time")
 ap.add_argument("--fps", type=int, default=24)
 ap.add_argument("--qualities", default="1,2,3,4,5,6,7,8,9,10", help="Blender's quality steps (substeps a frame)")
 ap.add_argument("--tension", type=float, default=15.0, help="Blender tension/compression/shear (its default 15)")
-ap.add_argument("--steps", default="24,48,60,80,120,240,480", help="clothsim implicit steps, as 1/N s")
+ap.add_argument("--steps", default="24,48,72,96,120,240,480",
+                help="clothsim implicit steps, as 1/N s; each N a multiple of --fps, as a step must divide a frame")
 ap.add_argument("--stiffnesses", default="matched,200000,1000000",
                 help="clothsim stiffnesses, N/m a spring; matched = tension * (side - 1)")
 ap.add_argument("--symplectic", default="matched",
@@ -63,6 +64,9 @@ ap.add_argument("--threads", type=int, default=2, help="threads for both")
 ap.add_argument("--match", type=float, default=1.25, help="a clothsim strain within this factor of Blender's "
                                                           "counts as matched")
 args = ap.parse_args(argv)
+bad = [n for n in args.steps.split(",") if int(n) % args.fps]
+if bad:  # clothsim's scene writer would round them to another step, and the ladder would repeat a point
+    ap.error(f"--steps {','.join(bad)}: not multiples of --fps {args.fps}")
 
 side, fps = args.side, args.fps
 frames = round(args.seconds * fps)
@@ -244,7 +248,8 @@ def write_csv(path, rows, floats):
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         for r in rows:
-            w.writerow({k: (f"{v:.4g}" if k in floats and isinstance(v, float) else v) for k, v in r.items()})
+            w.writerow({k: (f"{v:.{6 if k == 'step_s' else 4}g}" if k in floats and isinstance(v, float) else v)
+                        for k, v in r.items()})
 
 
 print(f"peer chart: {side} x {side} sheet, {frames / fps:g} s simulated, {args.threads} threads; load "
