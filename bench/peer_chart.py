@@ -5,7 +5,8 @@ process on one machine.
 
   blender -b --factory-startup --python-exit-code 1 --python bench/peer_chart.py -- CLOTHSIM_BIN SCRATCH OUT \
       [--seconds 0.5] [--qualities 1,2,...,10] [--steps 24,48,72,96,120,240,480] \
-      [--stiffnesses matched,200000,1000000] [--symplectic matched] [--repeats 3] [--blender-repeats 1] \
+      [--stiffnesses matched,200000,1000000] [--limited 10000/0.095,10000/0.005] [--limited-steps 24,48] \
+      [--symplectic matched] [--repeats 3] [--blender-repeats 1] \
       [--blender-air-damping X] [--threads 2] [--tension 15] [--side 128] [--match 1.25]
 
 bench/peer_chart.sh wraps it and exits 77 (skipped) where blender is not installed. Writes to OUT:
@@ -51,6 +52,10 @@ ap.add_argument("--steps", default="24,48,72,96,120,240,480",
                 help="clothsim implicit steps, as 1/N s; each N a multiple of --fps, as a step must divide a frame")
 ap.add_argument("--stiffnesses", default="matched,200000,1000000",
                 help="clothsim stiffnesses, N/m a spring; matched = tension * (side - 1)")
+ap.add_argument("--limited", default="10000/0.095,10000/0.005",
+                help="clothsim implicit runs with a Provot strain limit, STIFFNESS/MAXSTRAIN each: the 'stiff "
+                     "sheet' of docs/performance.md (0.095), and one limited near Blender's quality-5 strain")
+ap.add_argument("--limited-steps", default="24,48", help="steps, as 1/N s, of the --limited runs")
 ap.add_argument("--symplectic", default="matched",
                 help="stiffnesses to run symplectic Euler at its largest stable step (as `clothsim validate` "
                      "estimates it, rounded up to divide a frame); empty for none")
@@ -64,7 +69,7 @@ ap.add_argument("--threads", type=int, default=2, help="threads for both")
 ap.add_argument("--match", type=float, default=1.25, help="a clothsim strain within this factor of Blender's "
                                                           "counts as matched")
 args = ap.parse_args(argv)
-bad = [n for n in args.steps.split(",") if int(n) % args.fps]
+bad = [n for n in (args.steps + "," + args.limited_steps).split(",") if n and int(n) % args.fps]
 if bad:  # clothsim's scene writer would round them to another step, and the ladder would repeat a point
     ap.error(f"--steps {','.join(bad)}: not multiples of --fps {args.fps}")
 
@@ -126,9 +131,9 @@ def clothsim_measure(pattern):
     return worst, float(np.mean(first[:, 1] - last[:, 1]))
 
 
-def clothsim_row(integrator, stiffness_word, step):
+def clothsim_row(integrator, stiffness_word, step, limit=0.0):
     stiffness = stiffness_of(stiffness_word)
-    name = f"{integrator}_{stiffness:g}_{step:.6g}"
+    name = f"{integrator}_{stiffness:g}_{step:.6g}" + (f"_limit{limit:g}" if limit else "")
     out = os.path.join(args.scratch, name)
     xml = os.path.join(args.scratch, name + ".xml")
     stats = os.path.join(args.scratch, name + "_stats.json")
@@ -136,7 +141,7 @@ def clothsim_row(integrator, stiffness_word, step):
     for _ in range(args.repeats):
         shutil.rmtree(out, ignore_errors=True)  # no frame of an earlier run may be measured as this one's
         pattern = write_clothsim_scene(xml, out, side, fps, frames, integrator, step, stiffness, args.cg_tolerance,
-                                       preconditioner="multigrid" if integrator == "implicit" else "")
+                                       limit, preconditioner="multigrid" if integrator == "implicit" else "")
         loads.append(load1())
         rc, wall, cpu, st, err = run_clothsim_status(args.clothsim, xml, args.threads, stats)
         strain, sag = clothsim_measure(pattern)
@@ -152,7 +157,7 @@ def clothsim_row(integrator, stiffness_word, step):
         status = "ok"
     if r["err"].strip():
         print(f"{name}: {r['err'].strip()}", file=sys.stderr)
-    label = "implicit" if integrator == "implicit" else "symplectic Euler"
+    label = "symplectic Euler" if integrator == "symplectic" else "implicit" + (f", maxStrain {limit:g}" if limit else "")
     return dict(peer="clothsim", method=label, stiffness=f"{stiffness:g}", step_s=r["st"]["dt"], quality="",
                 steps=r["st"]["steps"], repeats=len(runs), wall_s=statistics.median(x["wall"] for x in runs),
                 cpu_s=statistics.median(x["cpu"] for x in runs), max_strain=statistics.median(x["strain"] for x in runs),
@@ -176,14 +181,12 @@ def write_chart(rows):
     series = []  # (title, style, rows)
     series.append(("Blender cloth (labels: quality)", "lp pt 7 ps 1.3 lc rgb '#d95f02'",
                    [r for r in rows if r["peer"] == "blender" and r["status"] == "ok"]))
-    colours = ["#1b9e77", "#7570b3", "#e7298a", "#66a61e"]
-    for i, k in enumerate(dict.fromkeys(r["stiffness"] for r in rows if r["peer"] == "clothsim")):
-        c = colours[i % len(colours)]
-        series.append((f"clothsim implicit, {k} N/m", f"lp pt 5 ps 1.2 lc rgb '{c}'",
-                       [r for r in rows if r["method"] == "implicit" and r["stiffness"] == k and r["status"] == "ok"]))
-        series.append((f"clothsim symplectic Euler, {k} N/m", f"p pt 9 ps 1.6 lc rgb '{c}'",
-                       [r for r in rows if r["method"] != "implicit" and r["peer"] == "clothsim"
-                        and r["stiffness"] == k and r["status"] == "ok"]))
+    colours = ["#1b9e77", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d", "#666666"]
+    good = [r for r in rows if r["peer"] == "clothsim" and r["status"] == "ok"]
+    for i, (method, k) in enumerate(dict.fromkeys((r["method"], r["stiffness"]) for r in good)):
+        style = "p pt 9 ps 1.6" if method.startswith("symplectic") else "lp pt 5 ps 1.2"
+        series.append((f"clothsim {method}, {k} N/m", f"{style} lc rgb '{colours[i % len(colours)]}'",
+                       [r for r in good if (r["method"], r["stiffness"]) == (method, k)]))
     series.append(("clothsim failed (exit 3, or steps failing their check)", "p pt 2 ps 2 lw 2 lc rgb 'red'",
                    [r for r in rows if r["peer"] == "clothsim" and r["status"] != "ok"]))
     series = [s for s in series if s[2]]
@@ -193,7 +196,7 @@ def write_chart(rows):
             for r in rs:
                 label = f"q{r['quality']}" if r["peer"] == "blender" else fraction(r["step_s"])
                 if r["peer"] == "clothsim" and r["status"] != "ok":  # the failed series mixes stiffnesses
-                    label += f",{float(r['stiffness']):.0e}".replace("e+0", "e")
+                    label += f",{float(r['stiffness']):.0e}".replace("e+0", "e") + ("L" if "maxStrain" in r["method"] else "")
                 f.write(f"{chart_x(r)!r} {r['wall_s']!r} {r['cpu_s']!r} {label}\n")
             f.write("\n\n")
     terminals = subprocess.run(["gnuplot", "-e", "set terminal"], capture_output=True, text=True)
@@ -258,6 +261,11 @@ rows = []
 for word in args.stiffnesses.split(","):
     for n in args.steps.split(","):
         rows.append(clothsim_row("implicit", word, 1.0 / float(n)))
+        print(rows[-1], flush=True)
+for pair in filter(None, args.limited.split(",")):
+    word, limit = pair.split("/")
+    for n in args.limited_steps.split(","):
+        rows.append(clothsim_row("implicit", word, 1.0 / float(n), float(limit)))
         print(rows[-1], flush=True)
 for word in filter(None, args.symplectic.split(",")):
     limit = symplectic_step(stiffness_of(word))
