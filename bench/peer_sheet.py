@@ -110,7 +110,7 @@ def bake_blender(side, fps, frames, quality, tension, threads, settings=None):
 
 def write_clothsim_scene(xml, out, side, fps, frames, integrator, timestep, stiffness, cg_tolerance=1e-3,
                          max_strain=0.0, preconditioner="", newton_iterations=0):
-    """The sheet as a clothsim scene (24 fps by default, density 1 kg/m^2 over 1 m^2, air damping 0.1, spring
+    """The sheet as a clothsim scene (density 1 kg/m^2 over 1 m^2, air damping 0.1, spring
     damping 0.1, bend 0.1 x stiffness); the step is rounded to divide a frame evenly, as clothsim requires."""
     steps_per_frame = max(1, round(1.0 / (fps * timestep)))
     extra = f' preconditioner="{preconditioner}"' if preconditioner else ""
