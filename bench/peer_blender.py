@@ -20,13 +20,10 @@ from clothsim's springs; both are left at values that keep each sheet stable.
 import argparse
 import os
 import sys
-import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from peer_run import run_clothsim_timed  # noqa: E402
-
-import bpy
-import numpy as np
+from peer_sheet import bake_blender, write_clothsim_scene  # noqa: E402
 
 argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 ap = argparse.ArgumentParser(prog="peer_blender.py")
@@ -56,68 +53,8 @@ particles = side * side
 os.makedirs(args.scratch, exist_ok=True)
 
 
-def structural_strain(co, edges, rest):
-    """Largest (length - rest) / rest over the grid's edges (its structural springs)."""
-    d = co[edges[:, 1]] - co[edges[:, 0]]
-    return float(np.max((np.linalg.norm(d, axis=1) - rest) / rest))
-
-
 def run_blender():
-    scene = bpy.context.scene
-    for obj in list(bpy.data.objects):
-        bpy.data.objects.remove(obj)
-    scene.render.threads_mode = "FIXED"
-    scene.render.threads = args.threads
-    scene.render.fps = fps
-    scene.frame_start, scene.frame_end = 1, 1 + frames
-    scene.gravity = (0, 0, -9.81)
-    bpy.ops.mesh.primitive_grid_add(x_subdivisions=side - 1, y_subdivisions=side - 1, size=1.0,
-                                    location=(0, 0, 1))
-    obj = bpy.context.object
-    mesh = obj.data
-    assert len(mesh.vertices) == particles, f"grid has {len(mesh.vertices)} vertices; expected {particles}"
-    co = np.empty(3 * particles)
-    mesh.vertices.foreach_get("co", co)
-    co = co.reshape(-1, 3)
-    # The two corners of the edge at the largest y, as clothsim's pins 0 and side - 1 are the corners of one edge.
-    top = np.isclose(co[:, 1], co[:, 1].max())
-    corners = [int(i) for i in np.flatnonzero(top & (np.isclose(co[:, 0], co[:, 0].min()) |
-                                                     np.isclose(co[:, 0], co[:, 0].max())))]
-    assert len(corners) == 2
-    group = obj.vertex_groups.new(name="pins")
-    group.add(corners, 1.0, "REPLACE")
-    edges = np.empty(2 * len(mesh.edges), dtype=np.int64)
-    mesh.edges.foreach_get("vertices", edges)
-    edges = edges.reshape(-1, 2)
-    rest = np.linalg.norm(co[edges[:, 1]] - co[edges[:, 0]], axis=1)
-
-    mod = obj.modifiers.new("Cloth", "CLOTH")
-    s = mod.settings
-    s.quality = args.quality
-    s.mass = 1.0 / particles  # kg per vertex
-    s.tension_stiffness = s.compression_stiffness = s.shear_stiffness = args.tension
-    s.vertex_group_mass = "pins"
-    mod.collision_settings.use_collision = False
-    mod.collision_settings.use_self_collision = False
-    mod.point_cache.frame_start, mod.point_cache.frame_end = 1, 1 + frames
-
-    scene.frame_set(1)
-    cpu0, wall0 = time.process_time(), time.perf_counter()
-    bpy.ops.ptcache.bake_all(bake=True)
-    wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
-
-    worst = 0.0
-    finite = True
-    buf = np.empty(3 * particles)
-    for f in range(2, 2 + frames):
-        scene.frame_set(f)
-        ev = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
-        ev.data.vertices.foreach_get("co", buf)
-        pos = buf.reshape(-1, 3)
-        finite = finite and bool(np.all(np.isfinite(pos)))
-        worst = max(worst, structural_strain(pos, edges, rest))
-    return dict(peer="blender", step=1.0 / (fps * args.quality), steps=frames * args.quality, wall=wall, cpu=cpu,
-                max_strain=worst, finite=finite)
+    return bake_blender(side, fps, frames, args.quality, args.tension, args.threads)
 
 
 def run_clothsim():
@@ -126,24 +63,8 @@ def run_clothsim():
     out = os.path.join(args.scratch, "clothsim_out")
     xml = os.path.join(args.scratch, "peer_sheet.xml")
     stats = os.path.join(args.scratch, "peer_stats.json")
-    steps_per_frame = max(1, round(1.0 / (fps * args.timestep)))
-    limit = f' maxStrain="{args.max_strain!r}"' if args.max_strain > 0 else ""
-    preconditioner = f' preconditioner="{args.preconditioner}"' if args.preconditioner else ""
-    with open(xml, "w") as f:
-        f.write(f"""<?xml version="1.0"?>
-<!-- bench/peer_blender.py: the peer sheet, {side} x {side}, 1 m, 1 kg, two corners pinned -->
-<scene>
-  <simulation timestep="{1.0 / (fps * steps_per_frame)!r}" fps="{fps}" startFrame="1" endFrame="{1 + frames}"
-              integrator="{args.integrator}" cgTolerance="{args.cg_tolerance!r}" gravity="0 -9.81 0"{preconditioner}/>
-  <forces><airDamping value="0.1"/></forces>
-  <cloth name="sheet" grid="{side} {side}" size="1 1" translate="0 1 0" saveDir="{out}" saveName="sheet"{limit}>
-    <density value="1"/>
-    <stiffness value="{stiffness!r}" bend="0.1"/>
-    <damping value="0.1"/>
-    <pins vertices="0 {side - 1}"/>
-  </cloth>
-</scene>
-""")
+    write_clothsim_scene(xml, out, side, fps, frames, args.integrator, args.timestep, stiffness, args.cg_tolerance,
+                         args.max_strain, args.preconditioner)
     wall, cpu, st = run_clothsim_timed(args.clothsim, xml, args.threads, stats)
     # The whole process, loading and writing frames included, as Blender's bake includes its set-up.
     return dict(peer=f"clothsim {st['integrator']}", step=st["dt"], steps=st["steps"], wall=wall, cpu=cpu,
