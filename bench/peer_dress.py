@@ -20,10 +20,10 @@ total spread evenly over the vertices in Blender); gravity 9.81 m/s^2 along -y.
 import argparse
 import os
 import sys
-import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from peer_run import run_clothsim_timed  # noqa: E402
+from peer_sheet import bake_cloth, reset_scene  # noqa: E402
 
 import bpy
 import numpy as np
@@ -96,40 +96,15 @@ def edge_strain(co, edges, rest):
 
 
 def run_blender(verts, tris, pins, mass):
-    scene = bpy.context.scene
-    for obj in list(bpy.data.objects):
-        bpy.data.objects.remove(obj)
-    scene.render.threads_mode = "FIXED"
-    scene.render.threads = args.threads
-    scene.render.fps = fps
-    scene.frame_start, scene.frame_end = 1, 1 + frames
-    scene.gravity = (0, -9.81, 0)  # the OBJ is y-up; no axis conversion on either side
+    reset_scene(args.threads, fps, frames, (0, -9.81, 0))  # the OBJ is y-up; no axis conversion on either side
     mesh = bpy.data.meshes.new("dress")
     mesh.from_pydata(verts.tolist(), [], tris.tolist())
     mesh.update()
     obj = bpy.data.objects.new("dress", mesh)
-    scene.collection.objects.link(obj)
+    bpy.context.scene.collection.objects.link(obj)
     assert len(mesh.vertices) == len(verts)
-    group = obj.vertex_groups.new(name="pins")
-    group.add(pins, 1.0, "REPLACE")
-    mod = obj.modifiers.new("Cloth", "CLOTH")
-    s = mod.settings
-    s.quality = args.quality
-    s.mass = mass / len(verts)
-    s.tension_stiffness = s.compression_stiffness = s.shear_stiffness = args.tension
-    s.vertex_group_mass = "pins"
-    mod.collision_settings.use_collision = False
-    mod.collision_settings.use_self_collision = False
-    mod.point_cache.frame_start, mod.point_cache.frame_end = 1, 1 + frames
-    scene.frame_set(1)
-    cpu0, wall0 = time.process_time(), time.perf_counter()
-    bpy.ops.ptcache.bake_all(bake=True)
-    wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
-    worst, buf = 0.0, np.empty(3 * len(verts))
-    for f in range(2, 2 + frames):
-        scene.frame_set(f)
-        obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.vertices.foreach_get("co", buf)
-        worst = max(worst, edge_strain(buf.reshape(-1, 3), EDGES, REST))
+    wall, cpu, positions = bake_cloth(obj, pins, args.quality, args.tension, mass / len(verts), frames)
+    worst = max(edge_strain(pos, EDGES, REST) for pos in positions)
     return dict(peer=f"blender q{args.quality}", step=1.0 / (fps * args.quality), steps=frames * args.quality,
                 wall=wall, cpu=cpu, max_strain=worst)
 

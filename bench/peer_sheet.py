@@ -39,23 +39,62 @@ def read_obj(path):
     return np.array(verts, dtype=float), np.array(faces, dtype=np.int64)
 
 
-def bake_blender(side, fps, frames, quality, tension, threads, settings=None):
-    """Bakes the sheet at `quality` substeps a frame; returns wall and CPU seconds of the bake, the largest
-    structural strain over frames 2..1 + frames, whether every position stayed finite, and the mean drop of the
-    vertices (m) at the last frame, which shows whether the sheet moved at all. `settings` overrides cloth
-    settings by name (e.g. {"air_damping": 0.0}); without it Blender's defaults stand."""
-    particles = side * side
+def reset_scene(threads, fps, frames, gravity):
+    """An empty Blender scene at `fps` over frames 1..1 + frames, with `threads` threads and this gravity."""
     scene = bpy.context.scene
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj)
-    # Each bake gets a fresh mesh: a removed object's cloth cache must not be read back by the next quality.
+    # Each bake gets a fresh mesh: a removed object's cloth cache must not be read back by the next bake.
     for mesh in list(bpy.data.meshes):
         bpy.data.meshes.remove(mesh)
     scene.render.threads_mode = "FIXED"
     scene.render.threads = threads
     scene.render.fps = fps
     scene.frame_start, scene.frame_end = 1, 1 + frames
-    scene.gravity = (0, 0, -9.81)
+    scene.gravity = gravity
+    return scene
+
+
+def bake_cloth(obj, pins, quality, tension, vertex_mass, frames, settings=None):
+    """Gives obj a cloth modifier (the vertices `pins` pinned, tension = compression = shear, no collisions,
+    `settings` overriding others by name), bakes it and returns the bake's wall and CPU seconds and the vertex
+    positions of frames 2..1 + frames (one array each)."""
+    scene = bpy.context.scene
+    group = obj.vertex_groups.new(name="pins")
+    group.add(pins, 1.0, "REPLACE")
+    mod = obj.modifiers.new("Cloth", "CLOTH")
+    s = mod.settings
+    s.quality = quality
+    s.mass = vertex_mass  # kg per vertex
+    s.tension_stiffness = s.compression_stiffness = s.shear_stiffness = tension
+    s.vertex_group_mass = "pins"
+    for name, value in (settings or {}).items():
+        setattr(s, name, value)
+    mod.collision_settings.use_collision = False
+    mod.collision_settings.use_self_collision = False
+    mod.point_cache.frame_start, mod.point_cache.frame_end = 1, 1 + frames
+
+    scene.frame_set(1)
+    cpu0, wall0 = time.process_time(), time.perf_counter()
+    bpy.ops.ptcache.bake_all(bake=True)
+    wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+    positions = []
+    buf = np.empty(3 * len(obj.data.vertices))
+    for f in range(2, 2 + frames):
+        scene.frame_set(f)
+        obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.vertices.foreach_get("co", buf)
+        positions.append(buf.reshape(-1, 3).copy())
+    bpy.ops.ptcache.free_bake_all()
+    return wall, cpu, positions
+
+
+def bake_blender(side, fps, frames, quality, tension, threads, settings=None):
+    """Bakes the sheet at `quality` substeps a frame; returns wall and CPU seconds of the bake, the largest
+    structural strain over frames 2..1 + frames, whether every position stayed finite, and the mean drop of the
+    vertices (m) at the last frame, which shows whether the sheet moved at all. `settings` overrides cloth
+    settings by name (e.g. {"air_damping": 0.0}); without it Blender's defaults stand."""
+    particles = side * side
+    reset_scene(threads, fps, frames, (0, 0, -9.81))
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=side - 1, y_subdivisions=side - 1, size=1.0,
                                     location=(0, 0, 1))
     obj = bpy.context.object
@@ -69,41 +108,17 @@ def bake_blender(side, fps, frames, quality, tension, threads, settings=None):
     corners = [int(i) for i in np.flatnonzero(top & (np.isclose(co[:, 0], co[:, 0].min()) |
                                                      np.isclose(co[:, 0], co[:, 0].max())))]
     assert len(corners) == 2
-    group = obj.vertex_groups.new(name="pins")
-    group.add(corners, 1.0, "REPLACE")
     edges = np.empty(2 * len(mesh.edges), dtype=np.int64)
     mesh.edges.foreach_get("vertices", edges)
     edges = edges.reshape(-1, 2)
     rest = np.linalg.norm(co[edges[:, 1]] - co[edges[:, 0]], axis=1)
 
-    mod = obj.modifiers.new("Cloth", "CLOTH")
-    s = mod.settings
-    s.quality = quality
-    s.mass = 1.0 / particles  # kg per vertex
-    s.tension_stiffness = s.compression_stiffness = s.shear_stiffness = tension
-    s.vertex_group_mass = "pins"
-    for name, value in (settings or {}).items():
-        setattr(s, name, value)
-    mod.collision_settings.use_collision = False
-    mod.collision_settings.use_self_collision = False
-    mod.point_cache.frame_start, mod.point_cache.frame_end = 1, 1 + frames
-
-    scene.frame_set(1)
-    cpu0, wall0 = time.process_time(), time.perf_counter()
-    bpy.ops.ptcache.bake_all(bake=True)
-    wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
-
+    wall, cpu, positions = bake_cloth(obj, corners, quality, tension, 1.0 / particles, frames, settings)
     worst, finite = 0.0, True
-    buf = np.empty(3 * particles)
-    for f in range(2, 2 + frames):
-        scene.frame_set(f)
-        ev = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
-        ev.data.vertices.foreach_get("co", buf)
-        pos = buf.reshape(-1, 3)
+    for pos in positions:
         finite = finite and bool(np.all(np.isfinite(pos)))
         worst = max(worst, structural_strain(pos, edges, rest))
-    sag = float(np.mean(co[:, 2] - pos[:, 2]))
-    bpy.ops.ptcache.free_bake_all()
+    sag = float(np.mean(co[:, 2] - positions[-1][:, 2]))
     return dict(peer="blender", step=1.0 / (fps * quality), steps=frames * quality, wall=wall, cpu=cpu,
                 max_strain=worst, finite=finite, sag=sag)
 
