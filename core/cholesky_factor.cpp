@@ -161,14 +161,23 @@ void cholesky_add_diagonal(CholeskyFactor& f, Index particle, const Sym3& block)
   }
 }
 
-void cholesky_add_coupling(CholeskyFactor& f, Index spring, const Sym3& block, Index a, Index b) {
-  const int pa = f.new_index[std::size_t(a)], pb = f.new_index[std::size_t(b)];
-  const int j = std::max(pa, pb), first = 3 * f.spring_pos[std::size_t(spring)];
-  const Mat3 m = block.full();  // symmetric, so the (a, b) and (b, a) blocks are the same
+namespace {
+
+// Adds sign * block to the off-diagonal block whose rows start `first` entries into each scalar column of block
+// column j (symmetric, so the (a, b) and (b, a) blocks are the same and only the upper one is stored).
+void add_off_diagonal(CholeskyFactor& f, int j, int first, const Sym3& block, Real sign) {
+  const Mat3 m = sign * block.full();
   Real* v = static_cast<Real*>(f.a->x);
   const int* outer = static_cast<const int*>(f.a->p);
   for (int c = 0; c < 3; ++c)
-    for (int r = 0; r < 3; ++r) v[outer[3 * j + c] + first + r] -= m(r, c);
+    for (int r = 0; r < 3; ++r) v[outer[3 * j + c] + first + r] += m(r, c);
+}
+
+}  // namespace
+
+void cholesky_add_coupling(CholeskyFactor& f, Index spring, const Sym3& block, Index a, Index b) {
+  const int j = std::max(f.new_index[std::size_t(a)], f.new_index[std::size_t(b)]);
+  add_off_diagonal(f, j, 3 * f.spring_pos[std::size_t(spring)], block, -1);
 }
 
 void cholesky_add_block(CholeskyFactor& f, Index a, Index b, const Sym3& block) {
@@ -177,12 +186,9 @@ void cholesky_add_block(CholeskyFactor& f, Index a, Index b, const Sym3& block) 
   const int* outer = static_cast<const int*>(f.a->p);
   const int* inner = static_cast<const int*>(f.a->i);
   // Block row I's first entry in column 3J: the pattern's rows are sorted, the neighbours' before the diagonal.
-  const int first = int(std::lower_bound(inner + outer[3 * j], inner + outer[3 * j] + 3 * f.up_count[std::size_t(j)],
-                                         3 * i) - inner) - outer[3 * j];
-  const Mat3 m = block.full();
-  Real* v = static_cast<Real*>(f.a->x);
-  for (int c = 0; c < 3; ++c)
-    for (int r = 0; r < 3; ++r) v[outer[3 * j + c] + first + r] += m(r, c);
+  const int* column = inner + outer[3 * j];
+  const int first = int(std::lower_bound(column, column + 3 * f.up_count[std::size_t(j)], 3 * i) - column);
+  add_off_diagonal(f, j, first, block, 1);
 }
 
 bool cholesky_factorize(CholeskyFactor& f) {

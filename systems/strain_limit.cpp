@@ -89,20 +89,20 @@ bool strain_limit_met(const Model& m, std::span<const Vec3> x) {
 }
 
 int apply_strain_limit(const Model& m, State& out, Real h) {
-  // Stop a little inside the guarantee so the last sweep's round-off cannot cross it.
+  // Stop a little inside the guarantee so the last sweep's round-off cannot cross it (strain_limit_met).
   const Real stop = 0.5 * strain_limit_tolerance;
-  if (strain_limit_excess(m, out.x) <= stop) return 0;
+  if (strain_limit_met(m, out.x)) return 0;
   apply_tethers(m, out, h);
   int it = 0;
   // The tethers alone may leave nothing to do (a chain stretched straight from its pin).
-  bool done = !m.tether_particle.empty() && strain_limit_excess(m, out.x) <= stop;
+  bool done = !m.tether_particle.empty() && strain_limit_met(m, out.x);
   while (!done && it < strain_limit_max_iterations) {
     // The first sweep projects exactly: a spring stretched alone ends at its limit, not past it.
     const Real met = sweep(m, out, h, it == 0 ? 1 : strain_limit_relaxation);
     ++it;
     // The read-only check of the end state decides; it runs after the first sweep (one sweep is often enough)
     // and after any sweep that met no spring past the stop, so most steps check once or twice, not every sweep.
-    done = (it == 1 || met <= stop) && strain_limit_excess(m, out.x) <= stop;
+    done = (it == 1 || met <= stop) && strain_limit_met(m, out.x);
   }
   return it;
 }
