@@ -33,16 +33,17 @@ void factor_now(const Model& m, Real h, Workspace& ws) {
     if (a != b && m.particle_inv_mass[a] > 0 && m.particle_inv_mass[b] > 0)
       cholesky_add_coupling(f, s, ws.spring_block[s], a, b);
   }
-  // Stitches: (h kd + h^2 ke) c_k c_l I between their particles k, l (systems/stitch_forces.h), the same terms
-  // the CG's product applies; without them the factor of a sewn garment misses its seams and CG stalls.
+  // Stitches: c_k c_l (h Kv + h^2 Kx) between their particles k, l (systems/stitch_forces.h), the same terms
+  // the CG's product applies; without them the factor of a sewn garment misses its seams and CG stalls. A slack
+  // thread's zero blocks stay in the pattern, which is fixed for the run.
   for (Index s = 0; s < m.stitch_count; ++s) {
     const std::array<Index, 3> p = stitch_particles(m, s);
     const std::array<Real, 3> c = stitch_coefficients(m.stitch_w[s]);
-    const Real coef = h * m.stitch_kd[s] + h * h * m.stitch_ke[s];
+    const Mat3 coef = ws.stitch_block[s].full();
     for (int k = 0; k < 3; ++k)
       for (int l = 0; l < 3; ++l) {
         if (!(m.particle_inv_mass[p[k]] > 0) || !(m.particle_inv_mass[p[l]] > 0)) continue;
-        const Sym3 block = Sym3::from((coef * c[k] * c[l]) * Mat3::Identity());
+        const Sym3 block = Sym3::from((c[k] * c[l]) * coef);
         if (p[k] == p[l]) cholesky_add_diagonal(f, p[k], block);
         else if (k < l) cholesky_add_block(f, p[k], p[l], block);
       }

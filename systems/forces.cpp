@@ -8,7 +8,7 @@ StepCounts eval_forces(const Model& model, std::span<const Vec3> x, std::span<co
                        Workspace& ws) {
   const auto t0 = std::chrono::steady_clock::now();
   eval_springs(model, x, v, ws.f);
-  if (model.stitch_count > 0) eval_stitches(model, x, v, time, ws.f);
+  if (model.stitch_count > 0) eval_stitches(model, x, v, ws.stitch_rest, ws.stitch_pull, ws.f);
   if (model.needs_normals()) eval_normals(model, x, ws.normal);
   apply_external_forces(model, x, v, time, ws.normal, ws.f);
   StepCounts counts;

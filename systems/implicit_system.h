@@ -52,8 +52,8 @@ inline Vec3 system_row(const Model& m, std::span<const Vec3> x, Real h, const Wo
       sum += spring_system_block(jac, h) * (p[i] - p[j]);
     }
   }
-  // Stitches: their constant (h kd + h^2 ke) c c^T blocks (systems/stitch_forces.h).
-  if (m.stitch_count > 0) sum += stitch_row(m, i, h, p);
+  // Stitches: their c c^T (x) (h Kv + h^2 Kx) blocks (systems/stitch_forces.h).
+  if (m.stitch_count > 0) sum += stitch_row(m, ws, i, p);
   return sum;
 }
 

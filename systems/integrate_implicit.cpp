@@ -53,9 +53,8 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
     }
     // Stitches: their diagonal coefficient and (df/dx) v (systems/stitch_forces.h).
     if (m.stitch_count > 0) {
-      const Real d = stitch_diagonal(m, i, h);
-      block.xx += d, block.yy += d, block.zz += d;
-      if (first) kv += stitch_dfdx_times(m, i, v);
+      block += stitch_diagonal(m, ws, i);
+      if (first) kv += stitch_dfdx_times(m, ws, i, v);
     }
     ws.cg_precond[i] = Sym3::from(block.full().inverse());  // symmetric up to round-off: its lower triangle
     ws.cg_r[i] = first ? Vec3(h * mass * ws.f[i] + (h * h) * kv) : Vec3(h * mass * ws.f[i] - mass * ws.dv[i]);
@@ -165,6 +164,7 @@ StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const St
     std::span<const Vec3> v = first ? std::span<const Vec3>(in.v) : std::span<const Vec3>(out.v);
     result.counts.add(eval_forces(m, x, v, in.time, ws));
     build_spring_blocks(m, x, h, ws);
+    if (m.stitch_count > 0) build_stitch_blocks(m, x, v, h, ws);
     if (first) parallel_over(n, particle_grain, [&](Index i) { ws.dv[i] = Vec3::Zero(); });
     build_particle_terms(m, x, v, h, first, ws);
     if (!first) {

@@ -131,7 +131,7 @@ void build_multigrid_operators(const Model& m, Real h, Workspace& ws) {
           g += particle_system_block(m, i, 1 / m.particle_inv_mass[i], h, ws);
           // Stitches join panels that no aggregate spans; their diagonal, kept here, stops the coarse levels from
           // taking a sewn panel as free to move (systems/stitch_forces.h).
-          if (m.stitch_count > 0) g += stitch_diagonal(m, i, h) * Mat3::Identity();
+          if (m.stitch_count > 0) g += stitch_diagonal(m, ws, i).full();
         }
         L.ground[n] = Sym3::from(g);
         L.ground[n] += sum_blocks(L.ground_offset, L.ground_index, ws.spring_block, n);

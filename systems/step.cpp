@@ -17,6 +17,7 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
   using clock = std::chrono::steady_clock;
   StepResult result;
   const auto t0 = clock::now();
+  if (model.stitch_count > 0) set_stitch_rest(model, in.x, in.v, in.time + h, h, ws.stitch_rest, ws.stitch_pull);
   switch (options.integrator) {
     case Integrator::euler:
       result.counts = eval_forces(model, in.x, in.v, in.time, ws);
@@ -33,7 +34,7 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
       break;
   }
   apply_attachments(model, ws.collision, in, out, h);
-  if (model.stitch_count > 0) apply_stitch_limit(model, out, h, in.time + h);
+  if (model.stitch_count > 0) apply_stitch_limit(model, ws.stitch_rest, out, h, in.time + h);
   // Collisions end the step (Bridson et al. 2002 §7): the strain limit's projections move particles without
   // looking at contacts, so run after collisions they could drag cloth back into a body or another layer.
   if (model.strain_limited) {

@@ -1,24 +1,42 @@
 #pragma once
-// Stitches: zero-rest-length springs that sew vertex a to the point (1 - w) x_b + w x_c of another panel
-// (Codim-IPC's stitch records; Blender's sewing springs). With c = (1, -(1 - w), -w) over (a, b, c) the gap is
-// g = sum_k c_k x_k, linear in x, and a stitch's force on its particle k is
-//   f_k = -c_k (ke (g - g*(t)) + kd (g' - g*'(t))),
-// so df/dx = -ke c c^T (x) I and df/dv = -kd c c^T (x) I: constant, symmetric, and -df/dx positive semi-definite,
-// which the backward-Euler matrix takes as it is (Baraff & Witkin 1998 eq. 15-16; no per-step linearisation).
-// Sewing speed is bounded by the target g*(t) = g0 max(0, 1 - t / T), T = |g0| / sewSpeed: the target gap
-// shrinks from the start gap g0 to zero at sewSpeed m/s, so a stitch never pulls towards a point nearer than
-// the target. The stitch pass (apply_stitch_limit) then keeps |g - g*(t)| <= stitch_tolerance after each step.
+// Stitches sew vertex a to the point (1 - w) x_b + w x_c of another panel (Codim-IPC's stitch records; Blender's
+// sewing springs). With c = (1, -(1 - w), -w) over (a, b, c) the gap is g = sum_k c_k x_k, linear in x.
+// While sewing, a stitch is a thread on the gap: it pulls along the gap when the gap is longer than its length,
+// and is slack otherwise. Its length follows a target L*(t) = |g0| max(0, 1 - t / T), T = |g0| / sewSpeed, that
+// shrinks from the start gap to zero at sewSpeed. Acting along the gap only, a seam sewn over a shoulder can
+// slide round it instead of being dragged along the straight line between its panels (the start gap's
+// direction) into the body; pulling only, neighbouring stitches with different schedules cannot push a seam
+// apart (a lower bound on |g| from one schedule and an upper bound from the next one over are incompatible;
+// upper bounds alone are all met by the sewn garment). Each step of h the thread's length is
+// L = max(L*(t + h), |g(x0)| - u h), x0 the positions at the step's start and u the closing speed the thread
+// allows: at most sewSpeed, gained and lost at stitch_acceleration (set_stitch_rest). So a gap is never pulled
+// closed faster than sewSpeed; one that a contact or the strain limit holds behind its schedule is not yanked
+// shut (through the body) in one step, and catches up once the target reaches zero. With n = g / |g|, taut (|g| > L), the force on
+// a particle of coefficient 1 is
+//   f = -(ke (|g| - L) + kd (n . g' + u)) n,
+// -df/dg = ke (n n^T + (1 - L / |g|) (I - n n^T)) and -df/dg' = kd n n^T: positive semi-definite, the damping's
+// x-derivative dropped, as for springs. Once L = 0 (sewn and within sewSpeed h) it is a zero-rest-length spring,
+// f = -(ke g + kd g'), with constant Jacobians ke I and kd I. The backward-Euler matrix takes
+// c c^T (x) (h Kv + h^2 Kx) for each stitch (Baraff & Witkin 1998 eq. 15-16), linearised at the start of the
+// step. After each step the stitch pass (apply_stitch_limit) shortens each gap longer than L.
 // docs/garments.md gives the figures.
+#include <algorithm>
 #include <array>
+#include <limits>
 #include <span>
 
 #include "core/model.h"
 
 namespace clothsim {
 
-// Largest |g - g*(t)| the stitch pass leaves, m.
+// Largest error the stitch pass leaves about a gap's schedule, m; about a clamped rest length, a micrometre.
 inline constexpr Real stitch_tolerance = 5e-4;
+inline constexpr Real stitch_clamped_tolerance = 1e-6;
 inline constexpr int stitch_max_iterations = 100;
+// The most a thread speeds up or slows down the closing of its gap, m/s^2: a seam starts closing, catches up
+// after a contact lets it go, and comes to rest at its partner over a few centimetres, not in one step (which
+// would jerk its whole panel to sewSpeed and stretch the cloth round the seam by tens of percent).
+inline constexpr Real stitch_acceleration = 2;
 
 // Weights of the stitch's three particles in its gap: (1, -(1 - w), -w).
 inline std::array<Real, 3> stitch_coefficients(Real w) { return {1, -(1 - w), -w}; }
@@ -33,64 +51,98 @@ inline Vec3 stitch_combine(const Model& m, Index s, std::span<const Vec3> y) {
   return y[m.stitch_a[s]] - (1 - w) * y[m.stitch_b[s]] - w * y[m.stitch_c[s]];
 }
 
-// Target gap g*(t) and its rate, for t seconds after the start.
-inline Vec3 stitch_target(const Model& m, Index s, Real t) {
+// The target length L*(t), t seconds after the start.
+inline Real stitch_target_length(const Model& m, Index s, Real t) {
   const Real close = m.stitch_close_time[s];
-  return t < close ? Vec3((1 - t / close) * m.stitch_gap0[s]) : Vec3(Vec3::Zero());
+  return t < close ? (1 - t / close) * m.stitch_gap0[s].norm() : Real(0);
 }
-inline Vec3 stitch_target_rate(const Model& m, Index s, Real t) {
+// The stitch's sewing speed, m/s (infinite for a stitch that starts closed).
+inline Real stitch_speed(const Model& m, Index s) {
   const Real close = m.stitch_close_time[s];
-  return t < close ? Vec3(-m.stitch_gap0[s] / close) : Vec3(Vec3::Zero());
+  return close > 0 ? m.stitch_gap0[s].norm() / close : std::numeric_limits<Real>::infinity();
 }
 
-// The stitch's force on a particle of coefficient 1, at time t: -(ke (g - g*) + kd (g' - g*')).
-inline Vec3 stitch_force(const Model& m, Index s, std::span<const Vec3> x, std::span<const Vec3> v, Real t) {
-  return -(m.stitch_ke[s] * (stitch_combine(m, s, x) - stitch_target(m, s, t)) +
-           m.stitch_kd[s] * (stitch_combine(m, s, v) - stitch_target_rate(m, s, t)));
+// Each stitch's thread for a step of h from (x0, v0) ending at time t_end: its length
+// rest = max(L*(t_end), |g(x0)| - u h), u = min(sewSpeed, u0 + stitch_acceleration h,
+// sqrt(2 stitch_acceleration |g(x0)|)) with u0 the speed the gap closes at (u = sewSpeed once L* = 0), and the
+// speed it shortens at, pull = (|g(x0)| - rest) / h (stitch_count each).
+void set_stitch_rest(const Model& m, std::span<const Vec3> x0, std::span<const Vec3> v0, Real t_end, Real h,
+                     std::span<Real> rest, std::span<Real> pull);
+
+// A stitch's force on a particle of coefficient 1 and its blocks kx = -df/dg, kv = -df/dg' at (x, v), for its
+// step's thread (length rest, shortening at pull).
+struct StitchTerms {
+  Vec3 force = Vec3::Zero();
+  Sym3 kx, kv;
+};
+inline StitchTerms stitch_terms(const Model& m, Index s, std::span<const Vec3> x, std::span<const Vec3> v, Real rest,
+                                Real pull) {
+  const Vec3 g = stitch_combine(m, s, x), rate = stitch_combine(m, s, v);
+  const Real ke = m.stitch_ke[s], kd = m.stitch_kd[s];
+  StitchTerms out;
+  if (rest == 0) {
+    out.force = -(ke * g + kd * rate);
+    out.kx = Sym3::from(ke * Mat3::Identity());
+    out.kv = Sym3::from(kd * Mat3::Identity());
+    return out;
+  }
+  const Real l = g.norm();
+  if (!(l > rest)) return out;  // slack: a thread does not push
+  const Vec3 n = g / l;
+  const Mat3 nn = n * n.transpose();
+  out.force = -(ke * (l - rest) + kd * (n.dot(rate) + pull)) * n;
+  out.kx = Sym3::from(ke * (nn + (1 - rest / l) * (Mat3::Identity() - nn)));
+  out.kv = Sym3::from(kd * nn);
+  return out;
 }
 
-// Adds every stitch's forces to f (N). Serial in stitch order: same bytes at any thread count; stitches are few
-// next to springs.
-void eval_stitches(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Real t, std::span<Vec3> f);
+// Adds every stitch's forces to f (N), for the step's threads (set_stitch_rest). Serial in stitch order: same
+// bytes at any thread count; stitches are few next to springs.
+void eval_stitches(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, std::span<const Real> rest,
+                   std::span<const Real> pull, std::span<Vec3> f);
 
-// The stitches' part of the backward-Euler matrix A = M - h df/dv - h^2 df/dx at particle i:
-// (h kd + h^2 ke) c_i c^T (x) I. stitch_diagonal gives its diagonal coefficient, stitch_row its row times p
-// (p zero on pinned particles), stitch_dfdx_times its (df/dx) v.
-inline Real stitch_diagonal(const Model& m, Index i, Real h) {
-  Real d = 0;
+// Each stitch's blocks for the step's matrix at (x, v) and the step's threads: ws.stitch_kx = Kx and
+// ws.stitch_block = h Kv + h^2 Kx (stitch_count).
+void build_stitch_blocks(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Real h, Workspace& ws);
+
+// The stitches' part of A = M - h df/dv - h^2 df/dx at particle i: sum over its stitches of
+// c_i c^T (x) ws.stitch_block. stitch_diagonal gives its diagonal block, stitch_row its row times p (p zero on
+// pinned particles), stitch_dfdx_times its (df/dx) v.
+inline Sym3 stitch_diagonal(const Model& m, const Workspace& ws, Index i) {
+  Sym3 d;
   for (Index k = m.particle_stitch_offset[i]; k < m.particle_stitch_offset[i + 1]; ++k) {
     const Index s = m.particle_stitch_index[k] / 3;
     const Real c = stitch_coefficients(m.stitch_w[s])[m.particle_stitch_index[k] % 3];
-    d += (h * m.stitch_kd[s] + h * h * m.stitch_ke[s]) * c * c;
+    d += Sym3::from((c * c) * ws.stitch_block[s].full());
   }
   return d;
 }
-inline Vec3 stitch_row(const Model& m, Index i, Real h, std::span<const Vec3> p) {
+inline Vec3 stitch_row(const Model& m, const Workspace& ws, Index i, std::span<const Vec3> p) {
   Vec3 sum = Vec3::Zero();
   for (Index k = m.particle_stitch_offset[i]; k < m.particle_stitch_offset[i + 1]; ++k) {
     const Index s = m.particle_stitch_index[k] / 3;
     const Real c = stitch_coefficients(m.stitch_w[s])[m.particle_stitch_index[k] % 3];
-    sum += ((h * m.stitch_kd[s] + h * h * m.stitch_ke[s]) * c) * stitch_combine(m, s, p);
+    sum += c * (ws.stitch_block[s] * stitch_combine(m, s, p));
   }
   return sum;
 }
-inline Vec3 stitch_dfdx_times(const Model& m, Index i, std::span<const Vec3> v) {
+inline Vec3 stitch_dfdx_times(const Model& m, const Workspace& ws, Index i, std::span<const Vec3> v) {
   Vec3 sum = Vec3::Zero();
   for (Index k = m.particle_stitch_offset[i]; k < m.particle_stitch_offset[i + 1]; ++k) {
     const Index s = m.particle_stitch_index[k] / 3;
     const Real c = stitch_coefficients(m.stitch_w[s])[m.particle_stitch_index[k] % 3];
-    sum -= (m.stitch_ke[s] * c) * stitch_combine(m, s, v);
+    sum -= c * (ws.stitch_kx[s] * stitch_combine(m, s, v));
   }
   return sum;
 }
 
-// Largest |g - g*(t)| over the stitches, m; 0 without stitches.
-Real stitch_excess(const Model& m, std::span<const Vec3> x, Real t);
-
-// After a step of h ending at time t: Gauss-Seidel projections in stitch order, each moving a stitch with
-// |g - g*(t)| > stitch_tolerance back to |g - g*| = stitch_tolerance / 2, split over its particles by inverse
-// mass and coefficient (Provot 1995 §5, as the strain limit), velocities changed by the same displacement / h;
-// until every stitch is within stitch_tolerance or stitch_max_iterations sweeps. Returns the sweeps taken.
-int apply_stitch_limit(const Model& m, State& out, Real h, Real t);
+// After a step of h ending at time t, each gap longer than its thread is shortened: to within
+// stitch_tolerance / 2 of L*(t) where the thread's length is L* (beyond stitch_tolerance), and to a length
+// clamped above L* exactly (beyond stitch_clamped_tolerance), so a held gap is shortened by sewSpeed h a step at
+// most. A gap shorter than its thread is left alone. Gauss-Seidel projections in stitch order move each gap along
+// itself, split over its particles by inverse mass and coefficient (Provot 1995 §5, as the strain limit),
+// velocities changed by the same displacement / h; until no gap is moved or stitch_max_iterations sweeps.
+// Returns the sweeps taken.
+int apply_stitch_limit(const Model& m, std::span<const Real> rest, State& out, Real h, Real t);
 
 }  // namespace clothsim

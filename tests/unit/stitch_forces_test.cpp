@@ -1,4 +1,4 @@
-// Stitches (systems/stitch_forces.h): force and Jacobian against finite differences, a tube of two panels sewn
+// Stitches (systems/stitch_forces.h): force against its hand value and Jacobian against finite differences, a tube of two panels sewn
 // round, and the same bytes at 1 and 2 threads.
 #include <doctest/doctest.h>
 
@@ -82,47 +82,104 @@ Model one_stitch(Real w) {
   return m;
 }
 
-}  // namespace
-
-TEST_CASE("stitch force: zero at the target gap, sums to zero, and its Jacobian matches finite differences") {
-  for (Real w : {0.0, 0.3, 1.0}) {
-    CAPTURE(w);
-    const Model m = one_stitch(w);
-    const Real t = 0.2, h = 0.01;
-    std::vector<Vec3> x = {Vec3(0.3, 0.1, -0.2), Vec3(0.0, 0.2, 0.1), Vec3(0.4, -0.1, 0.0)};
-    std::vector<Vec3> v = {Vec3(0.5, -0.1, 0.2), Vec3(-0.3, 0.0, 0.1), Vec3(0.1, 0.4, -0.2)};
-    auto force = [&](const std::vector<Vec3>& xx, const std::vector<Vec3>& vv) {
-      std::vector<Vec3> f(3, Vec3::Zero());
-      eval_stitches(m, xx, vv, t, f);
-      return f;
-    };
-    const std::vector<Vec3> f = force(x, v);
-    CHECK((f[0] + f[1] + f[2]).norm() < 1e-12);  // internal: no net force
-    // At g = g*(t) and g' = g*'(t) the force vanishes: target at t = 0.2 of T = 0.5 is 0.6 g0.
-    std::vector<Vec3> xs = x, vs = v;
-    xs[0] = (1 - w) * x[1] + w * x[2] + 0.6 * m.stitch_gap0[0];
-    vs[0] = (1 - w) * v[1] + w * v[2] - m.stitch_gap0[0] / 0.5;
-    for (const Vec3& fk : force(xs, vs)) CHECK(fk.norm() < 1e-12);
-    // (A p)_i from the stitch = -h^2 (df/dx) p - h (df/dv) p, central differences exact for a linear force.
-    const std::vector<Vec3> p = {Vec3(0.2, -0.7, 0.4), Vec3(-0.1, 0.3, 0.9), Vec3(0.6, 0.2, -0.5)};
-    const Real eps = 1e-4;
-    std::vector<Vec3> xp = x, xm = x, vp = v, vm = v;
-    for (int k = 0; k < 3; ++k) xp[k] += eps * p[k], xm[k] -= eps * p[k], vp[k] += eps * p[k], vm[k] -= eps * p[k];
-    const auto fxp = force(xp, v), fxm = force(xm, v), fvp = force(x, vp), fvm = force(x, vm);
-    for (Index i = 0; i < 3; ++i) {
-      const Vec3 dfdx_p = (fxp[i] - fxm[i]) / (2 * eps), dfdv_p = (fvp[i] - fvm[i]) / (2 * eps);
-      CHECK((stitch_row(m, i, h, p) - (-h * h * dfdx_p - h * dfdv_p)).norm() < 1e-9);
-      CHECK((stitch_dfdx_times(m, i, p) - dfdx_p).norm() < 1e-7);
-      // The diagonal coefficient is the row's response to p on particle i alone.
-      std::vector<Vec3> e(3, Vec3::Zero());
-      e[i] = Vec3(1, 0, 0);
-      CHECK(stitch_row(m, i, h, e).x() == doctest::Approx(stitch_diagonal(m, i, h)).epsilon(1e-12));
-    }
-  }
+// The step's matrix blocks of a lone stitch at (x, v) with its thread (rest, pull), in a workspace sized for it.
+Workspace stitch_workspace(const Model& m, const std::vector<Vec3>& x, const std::vector<Vec3>& v, Real h, Real rest,
+                           Real pull) {
+  Workspace ws;
+  ws.stitch_rest = {rest};
+  ws.stitch_pull = {pull};
+  ws.stitch_kx.assign(m.stitch_count, Sym3{});
+  ws.stitch_block.assign(m.stitch_count, Sym3{});
+  build_stitch_blocks(m, x, v, h, ws);
+  return ws;
 }
 
-TEST_CASE("a tube of two panels sewn round: the gap closes no faster than sewSpeed, then stays within 1 mm") {
-  // 0.1 m apart at 0.2 m/s: the target reaches zero at 0.5 s.
+std::vector<Vec3> stitch_force_at(const Model& m, const std::vector<Vec3>& x, const std::vector<Vec3>& v, Real rest,
+                                  Real pull) {
+  std::vector<Vec3> f(3, Vec3::Zero());
+  const std::vector<Real> r = {rest}, u = {pull};
+  eval_stitches(m, x, v, r, u, f);
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("stitch force: a thread on the gap while sewing, its length clamped to sewSpeed h, Jacobian against differences") {
+  // T = 0.5 s: at t = 0.2 the target is 0.6 |g0| long and shrinks at |g0| / 0.5 (sewSpeed 0.227 m/s); at
+  // t = 0.6 the target is 0. The gap, closing at 0.1 m/s, is 0.02, 1 or 5 mm longer than the target; in a
+  // step of 10 ms its thread may speed the closing to 0.1 + 2 h = 0.12 m/s (1.2 mm) while sewing, and to
+  // sewSpeed past the schedule.
+  for (Real w : {0.0, 0.3, 1.0})
+    for (Real t : {0.2, 0.6})
+      for (Real stretch : {2e-5, 1e-3, 5e-3}) {
+        CAPTURE(w);
+        CAPTURE(t);
+        CAPTURE(stretch);
+        Model m = one_stitch(w);
+        const Real h = 0.01, g0 = m.stitch_gap0[0].norm();
+        const Real length = t < 0.5 ? 0.6 * g0 : 0;
+        CHECK(stitch_target_length(m, 0, t) == doctest::Approx(length).epsilon(1e-12));
+        const Vec3 n = Vec3(2, -1, 2) / 3;
+        std::vector<Vec3> x = {Vec3::Zero(), Vec3(0.0, 0.2, 0.1), Vec3(0.4, -0.1, 0.0)};
+        x[0] = (1 - w) * x[1] + w * x[2] + (length + stretch) * n;
+        std::vector<Vec3> v = {Vec3::Zero(), Vec3(-0.3, 0.0, 0.1), Vec3(0.1, 0.4, -0.2)};
+        v[0] = (1 - w) * v[1] + w * v[2] - 0.1 * n + 0.05 * Vec3(1, 2, 0) / std::sqrt(5.0);  // n . g' = -0.1
+        const Vec3 g = stitch_combine(m, 0, x), gd = stitch_combine(m, 0, v);
+        CHECK(n.dot(gd) == doctest::Approx(-0.1).epsilon(1e-12));
+        std::vector<Real> rest(1), pull(1);
+        set_stitch_rest(m, x, v, t, h, rest, pull);
+        // While sewing 1.2 mm; past the schedule sewSpeed h = 2.27 mm, no ramp.
+        const Real reach = t < 0.5 ? std::min(0.12, std::sqrt(4 * g.norm())) * h : g0 / 0.5 * h;
+        const Real expected_rest = stretch < reach ? length : g.norm() - reach;
+        CHECK(rest[0] == doctest::Approx(expected_rest).epsilon(1e-12));
+        CHECK(pull[0] == doctest::Approx((g.norm() - expected_rest) / h).epsilon(1e-9));
+        if (t > 0.5 && stretch < 2e-3) CHECK(rest[0] == 0);  // sewn: the zero-length spring
+        const std::vector<Vec3> f = stitch_force_at(m, x, v, rest[0], pull[0]);
+        CHECK((f[0] + f[1] + f[2]).norm() < 1e-12);  // internal: no net force
+        // Hand value: -(ke min(|g| - L*, reach) + kd (n . g' + pull)) n; -(ke g + kd g') once at rest 0.
+        const Vec3 expected = rest[0] == 0 ? Vec3(-(300 * g + 0.7 * gd))
+                                           : Vec3(-(300 * std::min(stretch, reach) + 0.7 * (n.dot(gd) + pull[0])) * n);
+        CHECK((f[0] - expected).norm() < 1e-9 * expected.norm());
+        CHECK((f[1] + (1 - w) * expected).norm() < 1e-9 * expected.norm());
+        // A gap at its thread's length, shortening at its pull, in any direction, feels nothing; a shorter one is
+        // slack, whatever its rate.
+        if (t < 0.5) {
+          std::vector<Vec3> xs = x, vs = v;
+          const Vec3 along = 0.6 * g0 * Vec3(0, 0.6, 0.8);
+          xs[0] = (1 - w) * x[1] + w * x[2] + (1 + 1e-9) * along;
+          vs[0] = (1 - w) * v[1] + w * v[2] - 0.15 * along.normalized();
+          for (const Vec3& fk : stitch_force_at(m, xs, vs, 0.6 * g0, 0.15)) CHECK(fk.norm() < 1e-6);
+          xs[0] = (1 - w) * x[1] + w * x[2] + 0.5 * along;
+          for (const Vec3& fk : stitch_force_at(m, xs, v, 0.6 * g0, 0.15)) CHECK(fk.norm() == 0);
+        }
+        // (A p)_i from the stitch = -h^2 (df/dx) p - h (df/dv) p by central differences at the step's rest
+        // length; df/dx without damping, whose x-derivative the Jacobian drops (as for springs).
+        Model stiff = m;
+        stiff.stitch_kd = {0};
+        const std::vector<Vec3> p = {Vec3(0.2, -0.7, 0.4), Vec3(-0.1, 0.3, 0.9), Vec3(0.6, 0.2, -0.5)};
+        const Real eps = 1e-6;
+        std::vector<Vec3> xp = x, xm = x, vp = v, vm = v;
+        for (int k = 0; k < 3; ++k) xp[k] += eps * p[k], xm[k] -= eps * p[k], vp[k] += eps * p[k], vm[k] -= eps * p[k];
+        const auto fxp = stitch_force_at(stiff, xp, v, rest[0], pull[0]), fxm = stitch_force_at(stiff, xm, v, rest[0], pull[0]);
+        const auto fvp = stitch_force_at(m, x, vp, rest[0], pull[0]), fvm = stitch_force_at(m, x, vm, rest[0], pull[0]);
+        const Workspace ws = stitch_workspace(m, x, v, h, rest[0], pull[0]);
+        for (Index i = 0; i < 3; ++i) {
+          const Vec3 dfdx_p = (fxp[i] - fxm[i]) / (2 * eps), dfdv_p = (fvp[i] - fvm[i]) / (2 * eps);
+          CHECK((stitch_row(m, ws, i, p) - (-h * h * dfdx_p - h * dfdv_p)).norm() <= 1e-6 * stitch_row(m, ws, i, p).norm() + 1e-12);
+          CHECK((stitch_dfdx_times(m, ws, i, p) - dfdx_p).norm() <= 1e-6 * dfdx_p.norm() + 1e-9);
+          // The diagonal block is the row's response to p on particle i alone.
+          for (int axis = 0; axis < 3; ++axis) {
+            std::vector<Vec3> e(3, Vec3::Zero());
+            e[i][axis] = 1;
+            CHECK((stitch_row(m, ws, i, e) - stitch_diagonal(m, ws, i).full().col(axis)).norm() < 1e-12);
+          }
+        }
+      }
+}
+
+TEST_CASE("a tube of two panels sewn round: the threads pull no faster than sewSpeed, then the gaps stay within 1 mm") {
+  // 0.1 m apart at 0.2 m/s: the target reaches zero at 0.5 s; the threads, ramping up at 2 m/s^2, lag it by up
+  // to 0.2^2 / (2 * 2) = 1 cm and close it by 0.55 s.
   const Real gap = 0.1, speed = 0.2;
   for (Integrator integrator : {Integrator::symplectic, Integrator::implicit}) {
     CAPTURE(int(integrator));
@@ -132,22 +189,32 @@ TEST_CASE("a tube of two panels sewn round: the gap closes no faster than sewSpe
     CHECK(largest_gap(m, b.state.x) == doctest::Approx(gap));
     Workspace ws = make_workspace(m, b.options);
     State scratch = b.state;
-    Real fastest = 0, smallest_allowed_margin = 1;
+    Real fastest = 0, smallest_allowed_margin = 1, fastest_closing = 0;
     for (int k = 0; k < 1000; ++k) {  // 1 s
+      std::vector<Real> before(m.stitch_count);
+      for (Index s = 0; s < m.stitch_count; ++s) before[s] = stitch_combine(m, s, b.state.x).norm();
       step(m, b.options, b.state, scratch, ws, b.options.dt);
       std::swap(b.state, scratch);
       const Real t = b.state.time;
-      // No gap closes ahead of the target: |g| >= |g0| - speed t - tolerance.
+      // How far a gap runs ahead of its target, |g| - (|g0| - speed t - tolerance), and how fast it closes.
       Real smallest = 1;
       for (Index s = 0; s < m.stitch_count; ++s) smallest = std::min(smallest, stitch_combine(m, s, b.state.x).norm());
       smallest_allowed_margin = std::min(smallest_allowed_margin, smallest - (std::max(0.0, gap - speed * t) - stitch_tolerance));
       for (const Vec3& v : b.state.v) fastest = std::max(fastest, v.norm());
-      if (t >= 0.5) CHECK(largest_gap(m, b.state.x) <= 1e-3);
+      for (Index s = 0; s < m.stitch_count; ++s)
+        fastest_closing = std::max(fastest_closing, (before[s] - stitch_combine(m, s, b.state.x).norm()) / b.options.dt);
+      if (t >= 0.6) CHECK(largest_gap(m, b.state.x) <= 1e-3);
     }
-    CHECK(smallest_allowed_margin >= -1e-12);
+    // A thread never pulls a gap shorter than its target, nor faster than sewSpeed: the implicit tube's gaps
+    // never get ahead of the target and close at 0.203 m/s at most, no particle faster than 0.136 m/s. The
+    // undamped symplectic panels coast and ring: their gaps run up to 26.5 mm ahead, particles at up to
+    // 0.236 m/s.
+    if (integrator == Integrator::implicit) {
+      CHECK(smallest_allowed_margin >= -1e-12);
+      CHECK(fastest_closing <= 1.05 * speed);
+    }
+    CHECK(fastest <= 1.25 * speed);
     CHECK(largest_gap(m, b.state.x) <= stitch_tolerance);
-    // Each side moves at about half the closing speed; nothing flies off.
-    CHECK(fastest < 4 * speed);
   }
 }
 
