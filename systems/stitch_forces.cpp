@@ -37,8 +37,8 @@ void eval_stitches(const Model& m, std::span<const Vec3> x, std::span<const Vec3
 void build_stitch_blocks(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Real h, Workspace& ws) {
   parallel_over(m.stitch_count, particle_grain, [&](Index s) {
     const StitchTerms terms = stitch_terms(m, s, x, v, ws.stitch_rest[s], ws.stitch_pull[s]);
-    ws.stitch_kx[s] = terms.kx;
-    ws.stitch_block[s] = Sym3::from(h * terms.kv.full() + (h * h) * terms.kx.full());
+    ws.stitch_kx[s] = Sym3::from(terms.jac.dfdx);
+    ws.stitch_block[s] = Sym3::from(spring_system_block(terms.jac, h));
   });
 }
 

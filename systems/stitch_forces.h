@@ -26,6 +26,7 @@
 #include <span>
 
 #include "core/model.h"
+#include "systems/spring_jacobian.h"
 
 namespace clothsim {
 
@@ -69,11 +70,12 @@ inline Real stitch_speed(const Model& m, Index s) {
 void set_stitch_rest(const Model& m, std::span<const Vec3> x0, std::span<const Vec3> v0, Real t_end, Real h,
                      std::span<Real> rest, std::span<Real> pull);
 
-// A stitch's force on a particle of coefficient 1 and its blocks kx = -df/dg, kv = -df/dg' at (x, v), for its
-// step's thread (length rest, shortening at pull).
+// A stitch's force on a particle of coefficient 1 and its Jacobian blocks -df/dg, -df/dg' at (x, v), for its
+// step's thread (length rest, shortening at pull). A taut thread's blocks are those of a spring of that rest
+// length across the gap (spring_jacobian).
 struct StitchTerms {
   Vec3 force = Vec3::Zero();
-  Sym3 kx, kv;
+  SpringJacobian jac{Mat3::Zero(), Mat3::Zero()};
 };
 inline StitchTerms stitch_terms(const Model& m, Index s, std::span<const Vec3> x, std::span<const Vec3> v, Real rest,
                                 Real pull) {
@@ -82,17 +84,14 @@ inline StitchTerms stitch_terms(const Model& m, Index s, std::span<const Vec3> x
   StitchTerms out;
   if (rest == 0) {
     out.force = -(ke * g + kd * rate);
-    out.kx = Sym3::from(ke * Mat3::Identity());
-    out.kv = Sym3::from(kd * Mat3::Identity());
+    out.jac = {ke * Mat3::Identity(), kd * Mat3::Identity()};
     return out;
   }
   const Real l = g.norm();
   if (!(l > rest)) return out;  // slack: a thread does not push
   const Vec3 n = g / l;
-  const Mat3 nn = n * n.transpose();
   out.force = -(ke * (l - rest) + kd * (n.dot(rate) + pull)) * n;
-  out.kx = Sym3::from(ke * (nn + (1 - rest / l) * (Mat3::Identity() - nn)));
-  out.kv = Sym3::from(kd * nn);
+  out.jac = spring_jacobian(Vec3::Zero(), g, rest, ke, kd);
   return out;
 }
 
@@ -108,31 +107,27 @@ void build_stitch_blocks(const Model& m, std::span<const Vec3> x, std::span<cons
 // The stitches' part of A = M - h df/dv - h^2 df/dx at particle i: sum over its stitches of
 // c_i c^T (x) ws.stitch_block. stitch_diagonal gives its diagonal block, stitch_row its row times p (p zero on
 // pinned particles), stitch_dfdx_times its (df/dx) v.
-inline Sym3 stitch_diagonal(const Model& m, const Workspace& ws, Index i) {
-  Sym3 d;
+// Calls fn(s, c) for each stitch s of particle i, in stitch order, c the particle's coefficient in it.
+template <class Fn>
+inline void for_each_stitch_of(const Model& m, Index i, Fn&& fn) {
   for (Index k = m.particle_stitch_offset[i]; k < m.particle_stitch_offset[i + 1]; ++k) {
     const Index s = m.particle_stitch_index[k] / 3;
-    const Real c = stitch_coefficients(m.stitch_w[s])[m.particle_stitch_index[k] % 3];
-    d += Sym3::from((c * c) * ws.stitch_block[s].full());
+    fn(s, stitch_coefficients(m.stitch_w[s])[m.particle_stitch_index[k] % 3]);
   }
+}
+inline Sym3 stitch_diagonal(const Model& m, const Workspace& ws, Index i) {
+  Sym3 d;
+  for_each_stitch_of(m, i, [&](Index s, Real c) { d += Sym3::from((c * c) * ws.stitch_block[s].full()); });
   return d;
 }
 inline Vec3 stitch_row(const Model& m, const Workspace& ws, Index i, std::span<const Vec3> p) {
   Vec3 sum = Vec3::Zero();
-  for (Index k = m.particle_stitch_offset[i]; k < m.particle_stitch_offset[i + 1]; ++k) {
-    const Index s = m.particle_stitch_index[k] / 3;
-    const Real c = stitch_coefficients(m.stitch_w[s])[m.particle_stitch_index[k] % 3];
-    sum += c * (ws.stitch_block[s] * stitch_combine(m, s, p));
-  }
+  for_each_stitch_of(m, i, [&](Index s, Real c) { sum += c * (ws.stitch_block[s] * stitch_combine(m, s, p)); });
   return sum;
 }
 inline Vec3 stitch_dfdx_times(const Model& m, const Workspace& ws, Index i, std::span<const Vec3> v) {
   Vec3 sum = Vec3::Zero();
-  for (Index k = m.particle_stitch_offset[i]; k < m.particle_stitch_offset[i + 1]; ++k) {
-    const Index s = m.particle_stitch_index[k] / 3;
-    const Real c = stitch_coefficients(m.stitch_w[s])[m.particle_stitch_index[k] % 3];
-    sum -= c * (ws.stitch_kx[s] * stitch_combine(m, s, v));
-  }
+  for_each_stitch_of(m, i, [&](Index s, Real c) { sum -= c * (ws.stitch_kx[s] * stitch_combine(m, s, v)); });
   return sum;
 }
 

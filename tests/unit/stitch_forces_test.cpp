@@ -1,5 +1,5 @@
-// Stitches (systems/stitch_forces.h): force against its hand value and Jacobian against finite differences, a tube of two panels sewn
-// round, and the same bytes at 1 and 2 threads.
+// Stitches (systems/stitch_forces.h): force against its hand value and Jacobian against finite differences, a
+// tube of two panels sewn round, and the same bytes at 1 and 2 threads.
 #include <doctest/doctest.h>
 
 #include <tbb/global_control.h>
