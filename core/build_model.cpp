@@ -296,6 +296,15 @@ Workspace make_workspace(const Model& model, const SimOptions& options) {
     }
   }
   make_collision_workspace(model, ws.collision);
+  if (options.integrator == Integrator::implicit && options.solver.contact_filter && model.collision.enabled &&
+      !model.collision.colliders.empty()) {
+    CollisionScratch& s = ws.collision;
+    s.acc_hold.assign(7 * std::size_t(model.particle_count), 0);
+    s.acc_hold_count.assign(model.particle_count, 0);
+    s.filter_normal.assign(model.particle_count, Vec3::Zero());
+    s.held_impulse.assign(model.particle_count, 0);
+    s.held_rhs.assign(model.particle_count, 0);
+  }
   return ws;
 }
 

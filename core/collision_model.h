@@ -224,6 +224,15 @@ struct CollisionScratch {
   // the averaged response is the same bytes whatever the order the threads add in.
   std::vector<std::int64_t> acc_dv, acc_dx;  // (3 * particle_count)
   std::vector<std::int32_t> acc_count;       // (particle_count)
+  // The implicit solve's contact filter (systems/contact_filter.h), sized only when it is on: per particle, the
+  // fixed-point sums of its collider contacts' unit normals, collider velocities and friction coefficients over the
+  // collide stage's proximity passes (7 * particle_count), and their count (particle_count); the normal each
+  // particle is held along in the solve under way, zero where free; the normal impulse its hold has given it, and
+  // n . b of the solve under way (particle_count).
+  std::vector<std::int64_t> acc_hold;
+  std::vector<std::int32_t> acc_hold_count;
+  std::vector<Vec3> filter_normal;
+  std::vector<Real> held_impulse, held_rhs;
   // The pairs of the latest detection pass (systems/collision/contacts.h): [0, contact_count) of a buffer that
   // grows to the most one pass has found
   std::vector<Contact> contacts;

@@ -30,7 +30,7 @@ std::size_t model_bytes(const Model& m) {
   return total;
 }
 
-std::size_t state_bytes(const State& s) { return sum_bytes(s.x, s.v); }
+std::size_t state_bytes(const State& s) { return sum_bytes(s.x, s.v, s.contact); }
 
 std::size_t multigrid_bytes(const Multigrid& mg) {
   std::size_t total = std::size_t(mg.dense.size() + mg.dense_rhs.size()) * sizeof(Real);

@@ -9,7 +9,7 @@
 namespace clothsim {
 
 std::size_t model_bytes(const Model& model);          // particle, spring, triangle and cloth (UV) arrays
-std::size_t state_bytes(const State& state);          // positions and velocities
+std::size_t state_bytes(const State& state);          // positions, velocities and collider contacts
 std::size_t workspace_bytes(const Workspace& ws);     // forces, normals, RK4 and implicit scratch, strain limit
 std::size_t multigrid_bytes(const Multigrid& mg);     // the multigrid preconditioner's levels (part of the above)
 

@@ -133,11 +133,23 @@ struct Model {
   bool needs_normals() const { return wind_strength != 0; }
 };
 
+// A particle's collider contact as the collide stage found it: the mean unit normal (zero: no contact), the
+// collider's velocity at the contact, and the contact's Coulomb coefficient.
+struct ContactHold {
+  Vec3 normal = Vec3::Zero();
+  Vec3 velocity = Vec3::Zero();
+  Real friction = 0;
+};
+
 struct State {
   std::vector<Vec3> x;  // positions, m (particle_count)
   std::vector<Vec3> v;  // velocities, m/s (particle_count)
   Real time = 0;        // s since the start frame
   std::int64_t step = 0;  // steps taken since the start frame (seeds the random forces)
+  // Each particle's collider contact from the last collide stage: the implicit solve holds the particle on the
+  // surface and rubs it with the contact's friction (systems/contact_filter.h). Empty until a step with the
+  // filter on.
+  std::vector<ContactHold> contact;
 };
 
 struct Workspace {

@@ -13,7 +13,8 @@ SimOptions make_sim_options(const SimulationDesc& sim) {
   o.min_dt = sim.min_timestep;
   o.start_frame = sim.start_frame;
   o.end_frame = sim.end_frame;
-  o.solver = {sim.cg_tolerance, sim.cg_max_iterations, sim.newton_iterations, sim.preconditioner};
+  o.solver = {sim.cg_tolerance, sim.cg_max_iterations, sim.newton_iterations, sim.preconditioner,
+              sim.contact_filter};
   return o;
 }
 

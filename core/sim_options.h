@@ -12,6 +12,7 @@ struct SolverOptions {
   int cg_max_iterations = 1000;  // CG iteration cap per linear solve
   int newton_iterations = 1;     // linear solves per step
   Preconditioner preconditioner = Preconditioner::multigrid;  // of the CG (systems/multigrid.h)
+  bool contact_filter = true;    // hold collider contacts in the solve (systems/contact_filter.h)
 };
 
 struct SimOptions {

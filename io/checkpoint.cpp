@@ -16,11 +16,13 @@ namespace {
 
 // Layout (native little-endian, 8-byte fields):
 //   "CLOTHCKP" | u32 version | u32 first output frame | u64 fingerprint | i64 frame | i64 step | f64 time | u64 n
-//   | f64 x[3n] | f64 v[3n] | u64 hash64 of every byte before it
+//   | u64 c (0 or n) | f64 x[3n] | f64 v[3n] | f64 contact[7c] (normal, collider velocity, friction)
+//   | u64 hash64 of every byte before it
 static_assert(std::endian::native == std::endian::little, "checkpoints are stored little-endian");
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be three packed doubles");
 constexpr char magic[8] = {'C', 'L', 'O', 'T', 'H', 'C', 'K', 'P'};
-constexpr std::size_t header_bytes = 8 + 4 + 4 + 8 * 5;
+constexpr std::size_t header_bytes = 8 + 4 + 4 + 8 * 6;
+static_assert(sizeof(ContactHold) == 7 * sizeof(double), "a contact is written as 7 doubles");
 
 template <class T>
 void put(std::string& out, const T& value) {
@@ -80,9 +82,9 @@ std::uint64_t scene_fingerprint(std::uint64_t inputs, Real dt, std::span<const V
 }
 
 std::string encode_checkpoint(const Checkpoint& c) {
-  const std::uint64_t n = c.state.x.size();
+  const std::uint64_t n = c.state.x.size(), contacts = c.state.contact.size();
   std::string out;
-  out.reserve(header_bytes + 2 * n * sizeof(Vec3) + 8);
+  out.reserve(header_bytes + 2 * n * sizeof(Vec3) + contacts * sizeof(ContactHold) + 8);
   out.append(magic, sizeof magic);
   put(out, checkpoint_version);
   put(out, std::uint32_t(c.first_output));
@@ -91,8 +93,10 @@ std::string encode_checkpoint(const Checkpoint& c) {
   put(out, std::int64_t{c.state.step});
   put(out, double{c.state.time});
   put(out, n);
+  put(out, contacts);
   out.append(reinterpret_cast<const char*>(c.state.x.data()), n * sizeof(Vec3));
   out.append(reinterpret_cast<const char*>(c.state.v.data()), n * sizeof(Vec3));
+  out.append(reinterpret_cast<const char*>(c.state.contact.data()), contacts * sizeof(ContactHold));
   put(out, hash64(out));
   return out;
 }
@@ -112,11 +116,13 @@ Checkpoint decode_checkpoint(const std::string& path, std::string_view bytes) {
   c.state.step = get<std::int64_t>(bytes, pos);
   c.state.time = get<double>(bytes, pos);
   const auto n = get<std::uint64_t>(bytes, pos);
+  const auto contacts = get<std::uint64_t>(bytes, pos);
   // Size is checked before anything is allocated, so a hostile count cannot exhaust memory.
   const std::uint64_t payload = bytes.size() - header_bytes - 8;
-  if (n > payload / (2 * sizeof(Vec3)) || header_bytes + 2 * n * sizeof(Vec3) + 8 != bytes.size())
+  if (n > payload / (2 * sizeof(Vec3)) || (contacts != 0 && contacts != n) ||
+      header_bytes + 2 * n * sizeof(Vec3) + contacts * sizeof(ContactHold) + 8 != bytes.size())
     throw Error(path, "checkpoint is truncated or has trailing bytes; expected " + std::to_string(n) +
-                          " particles' positions and velocities");
+                          " particles' positions and velocities, and their collider contacts or none");
   const std::size_t end = bytes.size() - 8;
   std::size_t tail = end;
   if (get<std::uint64_t>(bytes, tail) != hash64(bytes.substr(0, end)))
@@ -129,6 +135,9 @@ Checkpoint decode_checkpoint(const std::string& path, std::string_view bytes) {
   c.state.v.resize(n);
   std::memcpy(static_cast<void*>(c.state.x.data()), bytes.data() + pos, n * sizeof(Vec3));
   std::memcpy(static_cast<void*>(c.state.v.data()), bytes.data() + pos + n * sizeof(Vec3), n * sizeof(Vec3));
+  c.state.contact.resize(contacts);
+  std::memcpy(static_cast<void*>(c.state.contact.data()), bytes.data() + pos + 2 * n * sizeof(Vec3),
+              contacts * sizeof(ContactHold));
   return c;
 }
 

@@ -1,8 +1,8 @@
 #pragma once
-// Checkpoints of a run: the whole State (positions, velocities, time, step counter) after a frame, so a killed
-// run resumes and recomputes the later frames bit for bit. The random forces are counter-based on the step
-// index (systems/random_force.h), so the step counter is their whole state; nothing else carries over between
-// frames. A checkpoint is written atomically and carries a format version, a fingerprint of the scene it came
+// Checkpoints of a run: the whole State (positions, velocities, time, step counter, and the collider contact normals
+// the implicit solve holds) after a frame, so a killed run resumes and recomputes the later frames bit for bit. The
+// random forces are counter-based on the step index (systems/random_force.h), so the step counter is their whole
+// state; nothing else carries over between frames. A checkpoint is written atomically and carries a format version, a fingerprint of the scene it came
 // from and a 64-bit checksum over everything before it, so a truncated or corrupted file is recognised.
 #include <cstdint>
 #include <optional>
@@ -17,7 +17,7 @@
 
 namespace clothsim::io {
 
-inline constexpr std::uint32_t checkpoint_version = 2;
+inline constexpr std::uint32_t checkpoint_version = 3;
 
 struct Checkpoint {
   std::uint64_t fingerprint = 0;  // of the scene (see scene_fingerprint): a checkpoint of another scene is refused

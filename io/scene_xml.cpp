@@ -58,7 +58,7 @@ void check_steps_per_frame(const ElementReader& r, const SimulationDesc& sim) {
 void read_simulation(const std::string& file, const std::string& text, pugi::xml_node n, SimulationDesc& sim) {
   ElementReader r(file, text, n,
                   {"timestep", "fps", "startFrame", "endFrame", "integrator", "gravity", "collisionIterations",
-                   "cgTolerance", "cgMaxIterations", "newtonIterations", "preconditioner",
+                   "cgTolerance", "cgMaxIterations", "newtonIterations", "preconditioner", "contactFilter",
                    "broadPhase", "checkpointEvery", "clothCollision", "impactZoneIterations",
                    "stepSafety", "minTimestep"});
   sim.timestep_auto = r.text("timestep") == "auto";
@@ -90,6 +90,7 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
   if (sim.newton_iterations < 1) r.bad("newtonIterations", "an integer >= 1");
   if (r.has("preconditioner") && !enum_from_name(preconditioner_names, r.text("preconditioner"), sim.preconditioner))
     r.bad("preconditioner", "jacobi, multigrid or cholesky");
+  sim.contact_filter = r.boolean("contactFilter", sim.contact_filter);
   if (!enum_from_name(broad_phase_names, r.text("broadPhase", "hash"), sim.broad_phase))
     r.bad("broadPhase", "hash or bvh");
   sim.checkpoint_every = r.integer("checkpointEvery", sim.checkpoint_every);

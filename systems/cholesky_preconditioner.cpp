@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 
+#include "systems/contact_filter.h"
 #include "systems/implicit_system.h"
 #include "systems/stitch_forces.h"
 
@@ -26,6 +27,7 @@ void factor_now(const Model& m, Real h, Workspace& ws) {
       const Index e = m.particle_spring_index[k];
       block += ws.spring_block[e >= 0 ? e : ~e];
     }
+    block += hold_block(ws, i, block);
     cholesky_add_diagonal(f, i, block);
   }
   for (Index s = 0; s < m.spring_count; ++s) {

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "systems/cholesky_preconditioner.h"
+#include "systems/contact_filter.h"
 #include "systems/forces.h"
 #include "systems/multigrid.h"
 #include "systems/parallel.h"
@@ -63,10 +64,11 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
 
 // Preconditioned CG (Shewchuk 1994, B2) from y = 0, stopping at |r| <= tol |b|. The preconditioner z = B r is
 // block-Jacobi, applied per particle where needed (z is not stored), or the multigrid cycle or the Cholesky
-// solve into ws.cg_z.
+// solve into ws.cg_z. Filtered, every search direction and product is projected as Baraff & Witkin's modified
+// PCG does (S B S as the preconditioner); r arrives filtered.
 template <Preconditioner Kind>
 CgResult run_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3> x, Workspace& ws, Real h,
-                ImplicitLayout layout) {
+                ImplicitLayout layout, CgStart from) {
   constexpr bool cycle = Kind != Preconditioner::jacobi;
   auto precondition = [&](std::span<const Vec3> r_in, std::span<Vec3> z_out) {
     if constexpr (Kind == Preconditioner::multigrid) apply_multigrid(m, x, h, layout, ws, r_in, z_out);
@@ -80,24 +82,27 @@ CgResult run_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3> 
     else return precond[i] * r[i];
   };
   if constexpr (cycle) precondition(r, z);
-  // y0 = 0, so r0 = b; z0 = B r0; p0 = z0.
+  // y0 = 0, so r0 = b (or y0 and its residual r0 when resuming); z0 = B r0; p0 = z0.
   const Sums2 start = deterministic_sum(n, particle_grain, Sums2(Sums2::Zero()), [&](Index i) {
-    y[i] = Vec3::Zero();
+    if (!from.resume) y[i] = Vec3::Zero();
     p[i] = z_at(i);
     return Sums2(r[i].squaredNorm(), r[i].dot(p[i]));
   });
-  const Real bb = start[0];
-  Real rr = bb, rz = start[1];
+  if (from.filtered) filter_held(ws, p);
+  const Real bb = from.reference > 0 ? from.reference * from.reference : start[0];
+  Real rr = start[0], rz = start[1];
   const Real stop = opt.cg_tolerance * opt.cg_tolerance * bb;
   CgResult res;
+  res.rhs_norm = std::sqrt(bb);
   // Below the smallest normal double a dot product keeps only a few significant bits, and alpha = rz / pq built
   // from two such numbers can be off by orders of magnitude: a motion decaying to exactly zero (the undamped chain
   // of the stability study at h w = 44) blew up to 1e53 J that way. Such a right-hand side or search direction is
   // zero for the solve's purpose.
   constexpr Real smallest_normal = std::numeric_limits<Real>::min();
-  if (!(bb >= smallest_normal)) return res;
+  if (!(rr >= smallest_normal)) return res;
   while (rr > stop && res.iterations < opt.cg_max_iterations) {
     apply_system(m, x, h, layout, ws, p, q);
+    if (from.filtered) filter_held(ws, q);
     const Real pq = deterministic_sum(n, particle_grain, Real(0), [&](Index i) { return p[i].dot(q[i]); });
     // A is positive definite by construction; this guards round-off at convergence and subnormal directions.
     if (!(pq >= smallest_normal && rz >= smallest_normal)) break;
@@ -118,6 +123,7 @@ CgResult run_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3> 
     const Real beta = rz_next / rz;
     rz = rz_next;
     parallel_over(n, particle_grain, [&](Index i) { p[i] = z_at(i) + beta * p[i]; });
+    if (from.filtered) filter_held(ws, p);
   }
   res.residual = std::sqrt(rr / bb);
   return res;
@@ -126,20 +132,21 @@ CgResult run_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3> 
 }  // namespace
 
 CgResult solve_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3> x, Workspace& ws, Real h,
-                  ImplicitLayout layout) {
+                  ImplicitLayout layout, CgStart from) {
   switch (opt.preconditioner) {
-    case Preconditioner::multigrid: return run_cg<Preconditioner::multigrid>(m, opt, x, ws, h, layout);
+    case Preconditioner::multigrid: return run_cg<Preconditioner::multigrid>(m, opt, x, ws, h, layout, from);
     case Preconditioner::cholesky: {
       // A factor kept from an earlier solve gets cholesky_refactor_iterations; a solve it has not finished by
-      // then is restarted with a fresh factor (systems/cholesky_preconditioner.h).
+      // then is restarted with a fresh factor from where it got to (systems/cholesky_preconditioner.h).
       const bool reused = ws.cholesky_solves > 0 && ws.cholesky_h == h;
       SolverOptions probe = opt;
       if (reused) probe.cg_max_iterations = std::min(opt.cg_max_iterations, cholesky_refactor_iterations);
-      CgResult res = run_cg<Preconditioner::cholesky>(m, probe, x, ws, h, layout);
+      CgResult res = run_cg<Preconditioner::cholesky>(m, probe, x, ws, h, layout, from);
       if (reused && !(res.residual <= opt.cg_tolerance)) {
         const int spent = res.iterations;
         const int renewed = renew_stale_cholesky(m, h, ws);
-        res = run_cg<Preconditioner::cholesky>(m, opt, x, ws, h, layout);
+        const Real reference = from.reference > 0 ? from.reference : res.rhs_norm;
+        res = run_cg<Preconditioner::cholesky>(m, opt, x, ws, h, layout, {from.filtered, true, reference});
         res.iterations += spent;
         res.factorizations = renewed;
       }
@@ -148,7 +155,7 @@ CgResult solve_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3
     }
     case Preconditioner::jacobi: break;
   }
-  return run_cg<Preconditioner::jacobi>(m, opt, x, ws, h, layout);
+  return run_cg<Preconditioner::jacobi>(m, opt, x, ws, h, layout, from);
 }
 
 StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const State& in, State& out, Workspace& ws,
@@ -157,6 +164,7 @@ StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const St
   StepResult result;
   SolveRecord& record = result.solve;
   Real last_residual = 0;  // |b| of the previous Newton correction's right-hand side (the backward-Euler residual)
+  const bool filtered = prepare_contact_filter(m, in, ws);
   for (int k = 0; k < opt.newton_iterations; ++k) {
     const bool first = k == 0;
     // Baraff & Witkin linearise about (x0, v0); each Newton correction about the latest iterate (out.x, out.v).
@@ -173,9 +181,11 @@ StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const St
       if (k >= 2 && residual > last_residual) record.newton_diverged = true;
       last_residual = residual;
     }
+    if (filtered) start_filtered_solve(ws);
     if (opt.preconditioner == Preconditioner::multigrid) build_multigrid_operators(m, h, ws);
     if (opt.preconditioner == Preconditioner::cholesky) record.factorizations += refresh_cholesky(m, h, ws);
-    const CgResult cg = solve_cg(m, opt, x, ws, h, layout);
+    const CgResult cg = solve_cg(m, opt, x, ws, h, layout, {filtered, false, 0});
+    if (filtered) finish_filtered_solve(m, x, h, layout, ws);
     record.factorizations += cg.factorizations;
     record.cg_iterations += cg.iterations;
     record.cg_residual = cg.residual;
@@ -186,6 +196,7 @@ StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const St
       out.x[i] = in.x[i] + h * out.v[i];
     });
   }
+  if (filtered) apply_held_friction(m, in, out, ws, h);
   result.counts.cg_iterations = record.cg_iterations;
   result.failed = record.failed();
   return result;

@@ -16,6 +16,17 @@ struct CgResult {
   int iterations = 0;
   Real residual = 0;       // |r| / |b| at exit (0 when b = 0)
   int factorizations = 0;  // Cholesky factorisations done inside the solve (a stale factor renewed)
+  Real rhs_norm = 0;       // |b| the residual is measured against
+};
+
+// How a solve starts: filtered projects the held particles' normals out of every vector (systems/contact_filter.h);
+// resume continues from the solution in ws.cg_x, whose residual ws.cg_r holds, instead of from zero (a restart with
+// a fresh preconditioner, or after holds were released); a reference |b| > 0 measures the residual against it
+// instead of against the residual the solve starts from.
+struct CgStart {
+  bool filtered = false;
+  bool resume = false;
+  Real reference = 0;
 };
 
 // Advances in by h into out; opt.newton_iterations linear solves (the first is Baraff & Witkin's, later ones are
@@ -30,6 +41,6 @@ StepResult integrate_implicit(const Model& model, const SolverOptions& opt, cons
 // springs are linearised about (read by the recompute layout). Builds nothing: ws.spring_block, ws.cg_precond
 // and (multigrid) the levels' operators must be current. Exposed for the benchmark.
 CgResult solve_cg(const Model& model, const SolverOptions& opt, std::span<const Vec3> x, Workspace& ws, Real h,
-                  ImplicitLayout layout);
+                  ImplicitLayout layout, CgStart start = {});
 
 }  // namespace clothsim

@@ -1,5 +1,7 @@
 #include "systems/collision/broad_phase.h"
 
+#include "systems/collision/response.h"
+
 #include <tbb/parallel_reduce.h>
 
 namespace clothsim {
@@ -8,9 +10,10 @@ namespace {
 // Swept, thickness-inflated boxes of slots [begin, end).
 void prim_boxes(const Model& m, const State& in, const State& out, CollisionScratch& s, Index begin, Index end) {
   const CollisionModel& c = m.collision;
-  const Real inflate = c.max_thickness;
   parallel_over(end - begin, 1024, [&](Index k) {
     const Index slot = begin + k;
+    // A collider's triangles reach as far as the contact filter's holds (systems/collision/response.h).
+    const Real inflate = slot < c.cloth_prim_count ? c.max_thickness : collider_reach(s, c.max_thickness);
     const PrimCorners t = corners(m, in, out, s, c.prim[slot]);
     Aabb b = swept_box(t.x0[0], t.x1[0]);
     for (int j = 1; j < 3; ++j) { grow(b, t.x0[j]); grow(b, t.x1[j]); }

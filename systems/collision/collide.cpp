@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "systems/contact_filter.h"
 #include "systems/collision/contacts.h"
 #include "systems/collision/continuous_pairs.h"
 #include "systems/collision/impact_zones.h"
@@ -24,6 +25,8 @@ CollideCounts collide(const Model& m, const State& in, State& out, Workspace& ws
 
   // The proximity passes (Bridson et al. 2002 §7): every contact of a pass is averaged per vertex, applied, and
   // the pass repeats on the corrected positions until it finds nothing.
+  // The collider contacts they find are also the holds of the next implicit solve (systems/contact_filter.h).
+  clear_contact_holds(m, s);
   for (int iter = 0; iter < c.iterations; ++iter) {
     clear_accumulators(m, s);
     collide_analytic(m, out, s, h);
@@ -42,6 +45,7 @@ CollideCounts collide(const Model& m, const State& in, State& out, Workspace& ws
     if (!crossings_left) break;
   }
   if (crossings_left && c.impact_zones()) counts.zones = resolve_impact_zones(m, in, out, s, mode, h);
+  gather_contact_holds(m, s, out);
   return counts;
 }
 

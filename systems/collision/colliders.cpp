@@ -48,9 +48,11 @@ void collide_analytic(const Model& m, State& out, CollisionScratch& s, Real h) {
       } else {
         continue;
       }
-      if (d >= thick) continue;
-      const Vec3 dv = collider_velocity_change(out.v[i], Vec3::Zero(), n, cloth.restitution,
-                                               combine_friction(cloth.friction, ci.friction));
+      if (d >= collider_reach(s, thick)) continue;
+      const Real mu = combine_friction(cloth.friction, ci.friction);
+      note_collider_contact(s, i, n, Vec3::Zero(), mu);
+      if (d >= thick) continue;  // within collider_reach only: held in the next solve, not pushed
+      const Vec3 dv = collider_velocity_change(out.v[i], Vec3::Zero(), n, cloth.restitution, mu);
       accumulate_contact(s, i, dv, eased_position_change(dv, n, d, thick, h));
     }
   });

@@ -6,6 +6,7 @@
 #include "systems/collision/broad_phase.h"
 #include "systems/collision/colliders.h"
 #include "systems/collision/proximity.h"
+#include "systems/collision/response.h"
 
 namespace clothsim {
 
@@ -86,13 +87,14 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
   const CollisionModel& c = m.collision;
   if (c.prim.empty()) return;
   parallel_over(m.particle_count, contact_grain, [&](Index i) {
-    const Real h = m.particle_thickness[i];
+    const Real thickness = m.particle_thickness[i], hold_reach = collider_reach(s, thickness);
     const Aabb q = swept_box(in.x[i], out.x[i]);
     const Real own_motion = (out.x[i] - in.x[i]).norm();
     for_each_candidate(m, s, mode, q, [&](Index slot) {
       const Index prim = c.prim[slot];
       const PrimCorners t = corners(m, in, out, s, prim);
       if (t.cloth && !c.vertex_meets_cloth_triangle(i, t.p)) return;
+      const Real h = t.cloth ? thickness : hold_reach;  // a collider's pairs reach further for the contact filter
       const Vec3& p = out.x[i];
       const Vec3 tlo = t.x1[0].cwiseMin(t.x1[1]).cwiseMin(t.x1[2]), thi = t.x1[0].cwiseMax(t.x1[1]).cwiseMax(t.x1[2]);
       if (((p.array() + h + own_motion) < tlo.array()).any() || ((p.array() - h - own_motion) > thi.array()).any())

@@ -49,6 +49,7 @@ void respond_collider_point(const Model& m, const State& out, CollisionScratch& 
   for (int k = 0; k < count; ++k) {
     const Real share = w[k] * m.particle_inv_mass[p[k]] / denom;
     accumulate_contact(s, p[k], share * dv, share * dx);
+    if (w[k] > 0) note_collider_contact(s, p[k], n, (c1 - c0) / h, mu);
   }
 }
 
@@ -59,7 +60,10 @@ void respond_vertex_triangle(const Model& m, const State& out, CollisionScratch&
   if (!t.cloth) {
     Vec3 v_col = Vec3::Zero();
     for (int k = 0; k < 3; ++k) v_col += w[k] * (t.x1[k] - t.x0[k]) / h;
-    const Vec3 dv = collider_velocity_change(out.v[i], v_col, n, m.cloths[m.collision.particle_cloth[i]].restitution, mu);
+    note_collider_contact(s, i, n, v_col, mu);
+    if (d >= thick) return;  // within collider_reach only: held in the next solve, not pushed
+    const Vec3 dv = collider_velocity_change(out.v[i], v_col, n, m.cloths[m.collision.particle_cloth[i]].restitution,
+                                             mu);
     accumulate_contact(s, i, dv, eased_position_change(dv, n, d, thick, h));
     return;
   }

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 
 #include "core/model.h"
 #include "systems/collision/proximity.h"
@@ -44,7 +45,23 @@ inline Vec3 collider_velocity_change(const Vec3& v, const Vec3& v_col, const Vec
   else dv -= (mu * dvn / vt_len) * vt;
   return dv;
 }
-
+// With the contact filter on, a cloth vertex this close to a collider, in thicknesses, is held in the next solve
+// though not pushed: the collide stage leaves a resting vertex at exactly the thickness, where round-off decides
+// whether the next stage finds it, and a hold on every other step only would let it fall in and be pushed out
+// again on the others.
+inline constexpr Real contact_hold_reach = 1.1;
+inline Real collider_reach(const CollisionScratch& s, Real thickness) {
+  return s.acc_hold.empty() ? thickness : contact_hold_reach * thickness;
+}
+// Adds a collider contact of particle i (unit normal n to the free side, the collider's velocity there, the
+// contact's friction) to the contact filter's sums, where the filter is on.
+inline void note_collider_contact(CollisionScratch& s, Index i, const Vec3& n, const Vec3& v_col, Real mu) {
+  if (s.acc_hold.empty()) return;
+  const Real values[7] = {n[0], n[1], n[2], v_col[0], v_col[1], v_col[2], mu};
+  for (int k = 0; k < 7; ++k)
+    std::atomic_ref<std::int64_t>(s.acc_hold[7 * std::size_t(i) + k]).fetch_add(to_fixed(values[k]), std::memory_order_relaxed);
+  std::atomic_ref<std::int32_t>(s.acc_hold_count[i]).fetch_add(1, std::memory_order_relaxed);
+}
 // Position change that goes with a velocity change dv over a step h (x = x0 + h v, as the integrators move
 // positions), plus the push along n that leaves the particle at distance `thickness` on the safe side.
 inline Vec3 collider_position_change(const Vec3& dv, const Vec3& n, Real d, Real thickness, Real h) {

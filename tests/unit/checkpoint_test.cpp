@@ -13,7 +13,7 @@ using namespace clothsim;
 
 namespace {
 
-io::Checkpoint sample_checkpoint(int n, int frame) {
+io::Checkpoint sample_checkpoint(int n, int frame, bool contacts = false) {
   io::Checkpoint c;
   c.fingerprint = 0x1234abcd5678ef90ULL;
   c.frame = frame;
@@ -22,6 +22,7 @@ io::Checkpoint sample_checkpoint(int n, int frame) {
   for (int i = 0; i < n; ++i) {
     c.state.x.emplace_back(0.1 * i, -1.0 / (i + 3), 1e-300 * i);
     c.state.v.emplace_back(-0.0, 3.0 * i + 1.0 / 7, std::nextafter(1.0, 2.0));
+    if (contacts) c.state.contact.push_back(i % 2 ? ContactHold{Vec3(0, 1, 0), Vec3(0.5, -0.0, 1e-300), 0.3} : ContactHold{});
   }
   return c;
 }
@@ -35,19 +36,28 @@ bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
 TEST_CASE("a checkpoint decodes to the bit-identical state it encoded") {
   const io::Checkpoint c = sample_checkpoint(7, 12);
   const std::string bytes = io::encode_checkpoint(c);
-  // header 56 bytes + 7 particles * 2 vectors * 24 bytes + 8-byte checksum
-  CHECK(bytes.size() == 56 + 7 * 48 + 8);
+  // header 64 bytes + 7 particles * 2 vectors * 24 bytes + 8-byte checksum
+  CHECK(bytes.size() == 64 + 7 * 48 + 8);
   const io::Checkpoint d = io::decode_checkpoint("c.ckpt", bytes);
+  CHECK(d.state.contact.empty());
   CHECK(d.fingerprint == c.fingerprint);
   CHECK(d.frame == 12);
   CHECK(d.state.step == 1012);
   CHECK(std::memcmp(&d.state.time, &c.state.time, sizeof(double)) == 0);
   CHECK(same_bits(d.state.x, c.state.x));
   CHECK(same_bits(d.state.v, c.state.v));  // including the sign of -0.0
+  // With the implicit solve's collider contacts: 7 more numbers per particle.
+  const io::Checkpoint held = sample_checkpoint(7, 12, true);
+  const std::string held_bytes = io::encode_checkpoint(held);
+  CHECK(held_bytes.size() == 64 + 7 * (48 + 56) + 8);
+  const std::vector<ContactHold> back = io::decode_checkpoint("c.ckpt", held_bytes).state.contact;
+  REQUIRE(back.size() == held.state.contact.size());
+  CHECK(std::memcmp(static_cast<const void*>(back.data()), static_cast<const void*>(held.state.contact.data()),
+                    back.size() * sizeof(ContactHold)) == 0);
 }
 
 TEST_CASE("every truncation and every flipped byte of a checkpoint is detected") {
-  const std::string bytes = io::encode_checkpoint(sample_checkpoint(3, 4));
+  const std::string bytes = io::encode_checkpoint(sample_checkpoint(3, 4, true));
   int refused = 0;
   for (std::size_t len = 0; len < bytes.size(); ++len) {
     try {
