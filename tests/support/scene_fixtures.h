@@ -5,12 +5,18 @@
 
 namespace clothsim::test {
 
-inline SceneDesc grid_scene(int nx, int ny, Real size, Integrator integrator, Real timestep = 1e-3) {
+// A scene without cloths or colliders, stepped at `timestep` one step per frame.
+inline SceneDesc stepped_scene(Integrator integrator, Real timestep) {
   SceneDesc s;
   s.path = "<test>";
   s.simulation.integrator = integrator;
   s.simulation.timestep = timestep;
-  s.simulation.fps = 1.0 / timestep;  // one step per frame
+  s.simulation.fps = 1.0 / timestep;
+  return s;
+}
+
+inline SceneDesc grid_scene(int nx, int ny, Real size, Integrator integrator, Real timestep = 1e-3) {
+  SceneDesc s = stepped_scene(integrator, timestep);
   ClothDesc c;
   c.name = "sheet";
   c.grid_nx = nx;

@@ -13,6 +13,7 @@
 #include "systems/integrate_implicit.h"
 #include "systems/step.h"
 #include "systems/stitch_forces.h"
+#include "tests/support/scene_fixtures.h"
 
 using namespace clothsim;
 
@@ -23,11 +24,7 @@ namespace {
 // B's side edge to the next row (all rows but the last). No gravity.
 BuiltScene sewn_tube(int nx, int ny, Real gap, Integrator integrator, Real sew_speed, Real timestep = 1e-3,
                      Real weight = 0) {
-  SceneDesc s;
-  s.path = "<test>";
-  s.simulation.integrator = integrator;
-  s.simulation.timestep = timestep;
-  s.simulation.fps = 1.0 / timestep;
+  SceneDesc s = test::stepped_scene(integrator, timestep);
   s.simulation.gravity = Vec3::Zero();
   ClothDesc c;
   c.name = "tube";
