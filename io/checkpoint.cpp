@@ -96,7 +96,7 @@ std::string encode_checkpoint(const Checkpoint& c) {
   put(out, contacts);
   out.append(reinterpret_cast<const char*>(c.state.x.data()), n * sizeof(Vec3));
   out.append(reinterpret_cast<const char*>(c.state.v.data()), n * sizeof(Vec3));
-  out.append(reinterpret_cast<const char*>(c.state.contact.data()), contacts * sizeof(ContactHold));
+  if (contacts > 0) out.append(reinterpret_cast<const char*>(c.state.contact.data()), contacts * sizeof(ContactHold));
   put(out, hash64(out));
   return out;
 }
@@ -136,8 +136,9 @@ Checkpoint decode_checkpoint(const std::string& path, std::string_view bytes) {
   std::memcpy(static_cast<void*>(c.state.x.data()), bytes.data() + pos, n * sizeof(Vec3));
   std::memcpy(static_cast<void*>(c.state.v.data()), bytes.data() + pos + n * sizeof(Vec3), n * sizeof(Vec3));
   c.state.contact.resize(contacts);
-  std::memcpy(static_cast<void*>(c.state.contact.data()), bytes.data() + pos + 2 * n * sizeof(Vec3),
-              contacts * sizeof(ContactHold));
+  if (contacts > 0)  // memcpy's pointers must not be null, even for no bytes
+    std::memcpy(static_cast<void*>(c.state.contact.data()), bytes.data() + pos + 2 * n * sizeof(Vec3),
+                contacts * sizeof(ContactHold));
   return c;
 }
 
