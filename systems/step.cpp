@@ -14,6 +14,13 @@
 namespace clothsim {
 
 StepResult step(const Model& model, const SimOptions& options, const State& in, State& out, Workspace& ws, Real h) {
+  // A run's first step with the implicit solve's contact filter: find what the cloth already touches, so that the
+  // first solve holds it (a garment that starts on its body would otherwise be pulled into it for one step).
+  if (!ws.collision.acc_hold.empty() && in.contact.size() != std::size_t(model.particle_count)) {
+    State primed = in;
+    prime_contact_holds(model, primed, ws, h);
+    return step(model, options, primed, out, ws, h);
+  }
   using clock = std::chrono::steady_clock;
   StepResult result;
   const auto t0 = clock::now();

@@ -49,6 +49,21 @@ CollideCounts collide(const Model& m, const State& in, State& out, Workspace& ws
   return counts;
 }
 
+void prime_contact_holds(const Model& m, State& state, Workspace& ws, Real h) {
+  CollisionScratch& s = ws.collision;
+  if (s.acc_hold.empty()) return;  // sized only with collisions and the filter on
+  place_colliders(m, state.time, h, s);
+  clear_accumulators(m, s);
+  clear_contact_holds(m, s);
+  collide_analytic(m, state, s, h);
+  if (!m.collision.prim.empty()) {
+    build_broad_phase(m, state, state, s);
+    const BroadMode mode = m.collision.broad_phase == BroadPhase::bvh ? BroadMode::bvh : BroadMode::hash;
+    respond_proximities(m, state, state, s, mode, h);
+  }
+  gather_contact_holds(m, s, state);
+}
+
 std::vector<std::array<Index, 3>> list_proximities(const Model& m, const State& in, const State& out,
                                                    CollisionScratch& s, BroadMode mode) {
   const Index count = find_proximities(m, in, out, s, mode);

@@ -22,6 +22,11 @@ struct CollideCounts {
 // The step from `in` (start) to `out` (integrated, changed in place) of length h.
 CollideCounts collide(const Model& model, const State& in, State& out, Workspace& ws, Real h);
 
+// The collider contacts of a state that has none yet (the first step of a run with the implicit solve's contact
+// filter): the proximity passes' detection against the colliders at the end of a step of length h, responses
+// discarded, so that the first solve already holds a garment that starts on its body (systems/contact_filter.h).
+void prime_contact_holds(const Model& model, State& state, Workspace& ws, Real h);
+
 // For tests and benchmarks: every proximity pair of the current configuration found through one broad phase,
 // {0, vertex, prim} for vertex-triangle, {1, edge, edge} for edge-edge, {2, cloth triangle, collider vertex}
 // and {3, cloth edge, collider edge} against collider meshes, sorted. build_broad_phase must have
