@@ -84,7 +84,7 @@ CgResult run_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3> 
   if constexpr (cycle) precondition(r, z);
   // y0 = 0, so r0 = b (or y0 and its residual r0 when resuming); z0 = B r0; p0 = z0.
   const Sums2 start = deterministic_sum(n, particle_grain, Sums2(Sums2::Zero()), [&](Index i) {
-    if (!from.resume) y[i] = Vec3::Zero();
+    if (!(from.reference > 0)) y[i] = Vec3::Zero();
     p[i] = z_at(i);
     return Sums2(r[i].squaredNorm(), r[i].dot(p[i]));
   });
@@ -146,7 +146,7 @@ CgResult solve_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3
         const int spent = res.iterations;
         const int renewed = renew_stale_cholesky(m, h, ws);
         const Real reference = from.reference > 0 ? from.reference : res.rhs_norm;
-        res = run_cg<Preconditioner::cholesky>(m, opt, x, ws, h, layout, {from.filtered, true, reference});
+        res = run_cg<Preconditioner::cholesky>(m, opt, x, ws, h, layout, {from.filtered, reference});
         res.iterations += spent;
         res.factorizations = renewed;
       }
@@ -184,7 +184,7 @@ StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const St
     if (filtered) start_filtered_solve(ws);
     if (opt.preconditioner == Preconditioner::multigrid) build_multigrid_operators(m, h, ws);
     if (opt.preconditioner == Preconditioner::cholesky) record.factorizations += refresh_cholesky(m, h, ws);
-    const CgResult cg = solve_cg(m, opt, x, ws, h, layout, {filtered, false, 0});
+    const CgResult cg = solve_cg(m, opt, x, ws, h, layout, {filtered});
     if (filtered) finish_filtered_solve(m, x, h, layout, ws);
     record.factorizations += cg.factorizations;
     record.cg_iterations += cg.iterations;

@@ -20,12 +20,11 @@ struct CgResult {
 };
 
 // How a solve starts: filtered projects the held particles' normals out of every vector (systems/contact_filter.h);
-// resume continues from the solution in ws.cg_x, whose residual ws.cg_r holds, instead of from zero (a restart with
-// a fresh preconditioner, or after holds were released); a reference |b| > 0 measures the residual against it
-// instead of against the residual the solve starts from.
+// a reference |b| > 0 resumes a solve that was cut short (a restart with a fresh preconditioner): CG continues from
+// the solution in ws.cg_x, whose residual ws.cg_r holds, and measures that residual against the original |b|
+// instead of starting from zero.
 struct CgStart {
   bool filtered = false;
-  bool resume = false;
   Real reference = 0;
 };
 

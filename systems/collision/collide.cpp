@@ -11,6 +11,21 @@
 #include "systems/collision/response.h"
 
 namespace clothsim {
+namespace {
+
+BroadMode broad_mode(const CollisionModel& c) {
+  return c.broad_phase == BroadPhase::bvh ? BroadMode::bvh : BroadMode::hash;
+}
+
+// One proximity pass's detection and responses into the accumulators (not applied): the analytic colliders, then
+// every pair of the broad phase when there is one.
+void respond_proximity_pass(const Model& m, const State& in, State& out, CollisionScratch& s, Real h) {
+  clear_accumulators(m, s);
+  collide_analytic(m, out, s, h);
+  if (!m.collision.prim.empty()) respond_proximities(m, in, out, s, broad_mode(m.collision), h);
+}
+
+}  // namespace
 
 CollideCounts collide(const Model& m, const State& in, State& out, Workspace& ws, Real h) {
   const CollisionModel& c = m.collision;
@@ -21,16 +36,14 @@ CollideCounts collide(const Model& m, const State& in, State& out, Workspace& ws
   push_out_deep_vertices(m, in, out, s, h);
   const bool broad = !c.prim.empty();
   if (broad) build_broad_phase(m, in, out, s);
-  const BroadMode mode = c.broad_phase == BroadPhase::bvh ? BroadMode::bvh : BroadMode::hash;
+  const BroadMode mode = broad_mode(c);
 
   // The proximity passes (Bridson et al. 2002 §7): every contact of a pass is averaged per vertex, applied, and
   // the pass repeats on the corrected positions until it finds nothing.
   // The collider contacts they find are also the holds of the next implicit solve (systems/contact_filter.h).
   clear_contact_holds(m, s);
   for (int iter = 0; iter < c.iterations; ++iter) {
-    clear_accumulators(m, s);
-    collide_analytic(m, out, s, h);
-    if (broad) respond_proximities(m, in, out, s, mode, h);
+    respond_proximity_pass(m, in, out, s, h);
     const std::int64_t found = apply_accumulated(m, out, s);
     if (iter == 0) counts.contacts = found;
     if (found == 0) break;
@@ -53,14 +66,9 @@ void prime_contact_holds(const Model& m, State& state, Workspace& ws, Real h) {
   CollisionScratch& s = ws.collision;
   if (s.acc_hold.empty()) return;  // sized only with collisions and the filter on
   place_colliders(m, state.time, h, s);
-  clear_accumulators(m, s);
+  if (!m.collision.prim.empty()) build_broad_phase(m, state, state, s);
   clear_contact_holds(m, s);
-  collide_analytic(m, state, s, h);
-  if (!m.collision.prim.empty()) {
-    build_broad_phase(m, state, state, s);
-    const BroadMode mode = m.collision.broad_phase == BroadPhase::bvh ? BroadMode::bvh : BroadMode::hash;
-    respond_proximities(m, state, state, s, mode, h);
-  }
+  respond_proximity_pass(m, state, state, s, h);
   gather_contact_holds(m, s, state);
 }
 
