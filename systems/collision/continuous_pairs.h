@@ -1,7 +1,7 @@
 #pragma once
 // The continuous pass's pairs (Bridson, Fedkiw & Anderson 2002 §6.2): every pair that meets along the step's
 // linear trajectories -- coplanar at some time with the vertex within the thickness of the triangle, or the
-// edges within the thickness of each other (systems/collision/ccd.h) -- and ends closer than the thickness on the
+// edges touching (systems/collision/ccd.h) -- and ends closer than the thickness on the
 // side it came from. The continuous pass responds to them; the impact zones (systems/collision/impact_zones.h)
 // merge them.
 #include <cmath>
@@ -12,13 +12,20 @@
 
 namespace clothsim {
 
+// Edges whose closest points stay farther apart than this fraction of the thickness where their lines are
+// coplanar did not pass through each other during the step: a near miss, left to the proximity passes.
+inline constexpr Real near_miss_fraction = 1e-4;
+
 // Edge x[0]x[1] of a cloth against edge x[2]x[3] (another cloth edge, or a collider edge), moving linearly from
-// x0 to x1 over the step (Bridson et al. 2002 §4): true when they meet within the thickness during the step and
-// end closer than it along the direction back to the side they came from (crossing_normal, systems/collision/ccd.h);
-// n and d are that direction and the end-of-step distance along it.
+// x0 to x1 over the step (Bridson et al. 2002 §4): true when they meet during the step and end closer than the
+// thickness along the direction back to the side they came from (crossing_normal, systems/collision/ccd.h); n
+// and d are that direction and the end-of-step distance along it. Only a meeting counts, not a pass within the
+// thickness: for a near miss the lines' cross product is no direction of approach (on the Rumba an endpoint
+// passing a body edge 1.3 mm away was pushed 3 mm sideways every step, whatever the step), and the proximity
+// passes already hold the pair the thickness apart.
 inline bool edge_edge_crossing(const Vec3 x0[4], const Vec3 x1[4], Real thick, EdgeProximity& px, Vec3& n, Real& d) {
   Real when;
-  if (!edge_edge_ccd(x0, x1, thick, when, px)) return false;
+  if (!edge_edge_ccd(x0, x1, near_miss_fraction * thick, when, px)) return false;
   if (!crossing_normal(x0, x1, when, px, n)) return false;
   d = n.dot(((1 - px.s) * x1[0] + px.s * x1[1]) - ((1 - px.t) * x1[2] + px.t * x1[3]));
   return std::isfinite(d) && d < thick;

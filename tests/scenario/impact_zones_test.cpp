@@ -201,20 +201,22 @@ ThroughRun sheets_through_each_other(int zone_iterations, int threads) {
 
 }  // namespace
 
-TEST_CASE("impact zones: sheets driven through each other in one step end with no crossing (53 without zones)") {
+TEST_CASE("impact zones: sheets driven through each other in one step end with no crossing (24 without zones)") {
   // Two continuous passes respond to every crossing, but each vertex gets the average of its responses, so the
-  // sheets end tangled: 53 intersecting triangle pairs. The zones merge the pairs still crossing and move each
-  // zone rigidly from its clean start: none is left, in two passes (the second finds nothing).
+  // sheets end tangled: 24 intersecting triangle pairs (53 while edge pairs that passed within the thickness
+  // without meeting were also sent back, along the lines' cross product). The zones merge the pairs still
+  // crossing and move each zone rigidly from its clean start: none is left, in two passes (the second finds
+  // nothing), with one zone of 19 vertices (3 zones of 41 in all before).
   const ThroughRun off = sheets_through_each_other(0, 2);
-  CHECK(off.crossings == 53);
+  CHECK(off.crossings == 24);
   CHECK(off.zones.steps == 0);
   const ThroughRun on = sheets_through_each_other(16, 2);
   CHECK(on.crossings == 0);
   CHECK(on.zones.steps == 1);
   CHECK(on.zones.unresolved == 0);
   CHECK(on.zones.passes == 2);
-  CHECK(on.zones.zones == 3);
-  CHECK(on.zones.zone_nodes == 41);
+  CHECK(on.zones.zones == 1);
+  CHECK(on.zones.zone_nodes == 19);
   MESSAGE("zones " << on.zones.zones << ", vertices in them " << on.zones.zone_nodes << ", largest "
                    << on.zones.largest << " of " << on.x.size());
 }
@@ -255,6 +257,8 @@ TEST_CASE("the Kick body's fastest frames (shared data: skipped without it): no 
   });
   CHECK(penetrations == 0);
   CHECK(zone_steps > 100);  // the zones did the work: they ran in hundreds of the 1,400 steps
-  CHECK(nearest > 0.5 * 0.006);  // held near the thickness from the body, where without zones it was 0.03 mm
+  // Held apart from the body, where without zones it was 0.03 mm: 1.7 mm. It was 3 mm and more while edge pairs
+  // that only passed within the thickness were also sent back, along the lines' cross product.
+  CHECK(nearest > 0.25 * 0.006);
   MESSAGE("nearest cloth vertex to the body from frame 54 on: " << nearest << " m; steps with zones " << zone_steps);
 }

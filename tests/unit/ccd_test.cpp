@@ -1,7 +1,8 @@
-// Continuous detection: the coplanarity cubic and its roots against hand-computed cases.
+// Continuous detection against hand-computed cases: the coplanarity cubic and its roots, the edge pairs' test.
 #include <doctest/doctest.h>
 
 #include "systems/collision/ccd.h"
+#include "systems/collision/continuous_pairs.h"
 
 using namespace clothsim;
 
@@ -160,4 +161,28 @@ TEST_CASE("a vertex sliding within a triangle's plane: its cubic vanishes, and i
   CHECK(hit.s == doctest::Approx(0).scale(1));
   CHECK(hit.t == doctest::Approx(0.5));
   CHECK(hit.d == doctest::Approx(0).scale(1));
+}
+
+TEST_CASE("edge-edge crossing: a near miss within the thickness is no crossing; edges that meet are") {
+  // P from (-1, 0, -c) to (0, 0, 0) tilts its far end to (-1, 0, c) over the step; Q lies from (-0.5, g, 0) to
+  // (0.5, g, 0). The lines are coplanar at t = 1/2 (P then along x, parallel to Q), g apart in y: they pass each
+  // other g = 2 mm apart, never through, within a 10 mm thickness. The lines' cross product would send the pair
+  // back along z by d = -c/2 = -5 cm, a gap that is not there; a near miss is left to the proximity passes.
+  const Real c = 0.1, g = 0.002;
+  const Vec3 x0[4] = {Vec3(-1, 0, -c), Vec3(0, 0, 0), Vec3(-0.5, g, 0), Vec3(0.5, g, 0)};
+  const Vec3 x1[4] = {Vec3(-1, 0, c), Vec3(0, 0, 0), Vec3(-0.5, g, 0), Vec3(0.5, g, 0)};
+  EdgeProximity px;
+  Vec3 n = Vec3::Zero();
+  Real d = 0;
+  CHECK_FALSE(edge_edge_crossing(x0, x1, 0.01, px, n, d));
+  // Edges that meet: Q upright at x = -0.5, from (-0.5, 1 mm, -0.5) to (-0.5, 1 mm, 0.5), moving to y = -1 mm,
+  // while P stays in y = 0: they meet at t = 1/2 at (-0.5, 0, 0). P lay 1 mm on Q's -y side at the start, so
+  // the pair goes back along -y (P x Q = (1, 0, 0) x (0, 0, 1) there), and it ends 1 mm across: d = -1 mm.
+  const Vec3 y0[4] = {x0[0], x0[1], Vec3(-0.5, 0.001, -0.5), Vec3(-0.5, 0.001, 0.5)};
+  const Vec3 y1[4] = {x1[0], x1[1], Vec3(-0.5, -0.001, -0.5), Vec3(-0.5, -0.001, 0.5)};
+  REQUIRE(edge_edge_crossing(y0, y1, 0.01, px, n, d));
+  CHECK(px.s == doctest::Approx(0.5));
+  CHECK(px.t == doctest::Approx(0.5));
+  CHECK((n - Vec3(0, -1, 0)).norm() < 1e-9);
+  CHECK(d == doctest::Approx(-0.001));
 }
