@@ -28,7 +28,7 @@ struct StepFailure {
 struct FrameSteps {
   int taken = 0, rejected = 0;
   Real smallest = 0, largest = 0;  // s, accepted steps
-  int failed = 0;                  // accepted steps that failed their check (fixed timestep only)
+  int failed = 0;                  // accepted steps that failed their check (fixed timestep; auto: see below)
   StepFailure first_failure;       // the first of them
   std::vector<SolveRecord> solves; // implicit: every solve of the frame, rejected steps' included, in order
   StepCounts counts;               // what every step of the frame did, rejected ones included
@@ -41,8 +41,9 @@ struct FrameSteps {
 // the strain; the frame's end is checked by the run's divergence guard (sim/simulation.h).
 //
 // A rejection keeps the state the step started from (step writes into scratch only), halves the step and
-// retries; after grow_after accepted steps in a row the step doubles again, up to options.dt, when that keeps the
-// frame's steps aligned. Each frame starts again at options.dt, so a frame's steps depend on its start state alone
+// retries; a strain jump that the halving did not shrink below step_independent_jump of the rejected one is
+// kept and counted in `failed`. After grow_after accepted steps in a row the step doubles again, up to
+// options.dt, when that keeps the frame's steps aligned. Each frame starts again at options.dt, so a frame's steps depend on its start state alone
 // and a run resumed from a checkpoint takes the same steps. Every decision uses deterministic sums: the steps
 // are the same at any thread count.
 class FrameStepper {
@@ -50,6 +51,9 @@ class FrameStepper {
   // More than this rise of the largest spring strain within one step is far beyond what a converged step of cloth
   // does: the linearisation about the step's start was taken too far.
   static constexpr Real strain_jump = 0.1;
+  // A strain jump at half the step of a rejected one that is still this fraction of it or more does not come
+  // from the step's size: the step is kept and reported (docs/stability.md, "Automatic steps").
+  static constexpr Real step_independent_jump = 0.9;
   static constexpr int grow_after = 16;
 
   // start: the scene's initial state (energies are measured from it, as the run's divergence guard does).

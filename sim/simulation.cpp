@@ -30,7 +30,8 @@ void Simulation::resume(State state, int frame) {
   last_strain_ = max_spring_strain(model_, state_.x);
 }
 
-std::string describe_failure(const SolverOptions& solver, const StepFailure& f, int frame) {
+std::string describe_failure(const SimOptions& opt, const StepFailure& f, int frame) {
+  const SolverOptions& solver = opt.solver;
   char text[400];
   if (f.verdict == StepVerdict::failed_solve && !f.solve.converged)
     // With the Cholesky factor CG stalls only where the factorisation failed (not positive definite in floating
@@ -47,6 +48,12 @@ std::string describe_failure(const SolverOptions& solver, const StepFailure& f, 
   else if (f.verdict == StepVerdict::failed_solve)
     std::snprintf(text, sizeof text, "frame %d: a Newton correction raised the backward-Euler residual: take a "
                   "smaller timestep", frame);
+  else if (f.verdict == StepVerdict::strain_jump && opt.auto_step)
+    // Kept by timestep="auto" because half the step did not shrink the jump: the collide stage's pushes.
+    std::snprintf(text, sizeof text, "frame %d: the largest spring strain went from %.3g to %.3g in one step of "
+                  "%.3g s, and half that step jumped as far: collisions pushed the cloth (a body part closing on it, "
+                  "or cloth between surfaces closer than two thicknesses); a smaller thickness may help", frame,
+                  f.strain_before, f.strain_after, f.step);
   else
     std::snprintf(text, sizeof text, "frame %d: the largest spring strain went from %.3g to %.3g in one step of "
                   "%.3g s, past the %.2g a step can be trusted with: take a smaller timestep or more "
@@ -95,7 +102,7 @@ FrameReport Simulation::advance_frame() {
   r.max_strain = last_strain_ = strain;
   r.kinetic_energy = kinetic_energy(model_, state_.v);
   if (r.steps.failed > 0 && failed_steps_ == 0)
-    first_failure_ = describe_failure(options_.solver, r.steps.first_failure, r.frame);
+    first_failure_ = describe_failure(options_, r.steps.first_failure, r.frame);
   failed_steps_ += r.steps.failed;
   return r;
 }

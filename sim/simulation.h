@@ -68,6 +68,6 @@ class Simulation {
 };
 
 // The sentence `run` prints for a step that failed its check and was kept.
-std::string describe_failure(const SolverOptions& solver, const StepFailure& failure, int frame);
+std::string describe_failure(const SimOptions& options, const StepFailure& failure, int frame);
 
 }  // namespace clothsim::sim

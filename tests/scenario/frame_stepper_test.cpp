@@ -144,3 +144,44 @@ TEST_CASE("a fixed implicit step that stretches a spring by more than strain_jum
     }
   }
 }
+
+// A 3 x 3 sheet (10 cm springs) at rest without gravity, 4 cm thick, pierced by a vertical needle (a thin collider
+// triangle) through the centroid of one of its triangles, 2.9 cm from its edges: the collide stage pushes those
+// edges out to one thickness from the needle, a push that does not depend on the step.
+std::string needle_scene(const std::string& name, const std::string& timestep) {
+  const auto dir = scratch_dir(name);
+  write_text(dir / "needle.obj", "v -0.0672 -1 -0.0667\nv -0.0662 -1 -0.0667\nv -0.0667 1 -0.0667\nf 1 2 3\n");
+  return R"(<scene>
+  <simulation timestep=")" + timestep + R"(" fps="100" startFrame="1" endFrame="2" integrator="implicit" gravity="0 0 0"/>
+  <cloth name="sheet" grid="3 3" size="0.2 0.2"><thickness value="0.04"/></cloth>
+  <static obj=")" + (dir / "needle.obj").string() + R"("/>
+</scene>)";
+}
+
+TEST_CASE("auto: a strain jump that half the step does not shrink is the collisions', kept and reported") {
+  const BuiltScene b = load_auto("auto_geometric", needle_scene("auto_geometric_mesh", "auto"));
+  State state = b.state;
+  State scratch = state;
+  Workspace ws = make_workspace(b.model, b.options);
+  FrameStepper stepper(b.model, b.options, b.state);
+  FrameSteps r;
+  REQUIRE(stepper.advance_frame(b.model, b.options, state, scratch, ws, r));
+  CHECK(state.time == doctest::Approx(0.01));
+  CHECK(r.rejected == 1);  // the whole step, then half of it: the same jump, kept
+  REQUIRE(r.failed == 1);
+  CHECK(r.first_failure.verdict == StepVerdict::strain_jump);
+  CHECK(r.first_failure.step == doctest::Approx(b.options.dt / 2));
+  CHECK(r.first_failure.strain_before == doctest::Approx(0).epsilon(1e-12));
+  CHECK(r.first_failure.strain_after > 0.1);
+  // The same push from one fixed step of the whole frame: the jump does not depend on the step.
+  const BuiltScene f = load_auto("auto_geometric_fixed", needle_scene("auto_geometric_fixed_mesh", "0.01"));
+  State fixed = f.state, fixed_scratch = f.state;
+  Workspace fws = make_workspace(f.model, f.options);
+  FrameStepper fixed_stepper(f.model, f.options, f.state);
+  FrameSteps fr;
+  REQUIRE(fixed_stepper.advance_frame(f.model, f.options, fixed, fixed_scratch, fws, fr));
+  REQUIRE(fr.failed == 1);
+  MESSAGE("strain after the push: " << r.first_failure.strain_after << " at dt/2, " << fr.first_failure.strain_after
+                                    << " at dt");
+  CHECK(r.first_failure.strain_after == doctest::Approx(fr.first_failure.strain_after).epsilon(0.02));
+}
