@@ -1,25 +1,24 @@
 #include "systems/collision/collision_check.h"
 
-#include <tbb/parallel_reduce.h>
-
 #include <algorithm>
 #include <numeric>
 
-#include "systems/parallel.h"
+#include "systems/collision/mesh_check.h"
 #include "systems/collision/proximity.h"
+#include "systems/reduce.h"
 
 namespace clothsim {
 namespace {
 
+constexpr Index vertex_grain = 1024;
+
 template <class T, class PerVertex, class Join>
 T reduce_vertices(Index n, T init, PerVertex&& f, Join&& join) {
-  return tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<Index>(0, n, 1024), init,
-      [&](const tbb::blocked_range<Index>& r, T acc) {
-        for (Index i = r.begin(); i != r.end(); ++i) acc = join(acc, f(i));
-        return acc;
-      },
-      join);
+  return deterministic_reduce(n, vertex_grain, init, f, join);
+}
+
+std::span<const Index> collider_tris(const Model& m, const ColliderInfo& ci) {
+  return std::span<const Index>(m.collision.mesh_tri_index).subspan(3 * ci.tri_begin, 3 * (ci.tri_end - ci.tri_begin));
 }
 
 }  // namespace
@@ -41,35 +40,25 @@ bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const
   return t >= 0 && t <= 1;
 }
 
+// Meshes go through mesh_check.h's grids, which give the same value as testing every triangle.
 Real min_collider_distance(const Model& m, std::span<const Vec3> x, const CollisionScratch& s, Index c) {
   const ColliderInfo& ci = m.collision.colliders[c];
+  if (ci.shape != ColliderShape::sphere && ci.shape != ColliderShape::plane)
+    return min_point_distance(x.first(m.particle_count), s.collider_x1, collider_tris(m, ci));
   auto per_vertex = [&](Index i) -> Real {
     if (ci.shape == ColliderShape::sphere) return (x[i] - ci.center).norm() - ci.radius;
-    if (ci.shape == ColliderShape::plane) return ci.normal.dot(x[i] - ci.point);
-    Real best = 1e300;
-    for (Index t = ci.tri_begin; t < ci.tri_end; ++t) {
-      const Index* v = &m.collision.mesh_tri_index[3 * t];
-      best = std::min(best, point_triangle_distance(x[i], s.collider_x1[v[0]], s.collider_x1[v[1]], s.collider_x1[v[2]]));
-    }
-    return best;
+    return ci.normal.dot(x[i] - ci.point);
   };
   return reduce_vertices(m.particle_count, Real(1e300), per_vertex, [](Real a, Real b) { return std::min(a, b); });
 }
 
 Index count_inside(const Model& m, std::span<const Vec3> x, const CollisionScratch& s, Index c) {
   const ColliderInfo& ci = m.collision.colliders[c];
-  if ((ci.shape == ColliderShape::mesh || ci.shape == ColliderShape::sequence) && !ci.closed) return 0;
+  if (ci.shape != ColliderShape::sphere && ci.shape != ColliderShape::plane)
+    return ci.closed ? count_points_inside(x.first(m.particle_count), s.collider_x1, collider_tris(m, ci)) : 0;
   auto per_vertex = [&](Index i) -> Index {
     if (ci.shape == ColliderShape::sphere) return (x[i] - ci.center).norm() < ci.radius;
-    if (ci.shape == ColliderShape::plane) return ci.normal.dot(x[i] - ci.point) < 0;
-    // Parity of crossings along a long ray in a direction unlikely to graze mesh edges.
-    const Vec3 far = x[i] + Vec3(0.5772, 0.6180, 0.5330).normalized() * 1e4;
-    Index crossings = 0;
-    for (Index t = ci.tri_begin; t < ci.tri_end; ++t) {
-      const Index* v = &m.collision.mesh_tri_index[3 * t];
-      crossings += segment_crosses_triangle(x[i], far, s.collider_x1[v[0]], s.collider_x1[v[1]], s.collider_x1[v[2]]);
-    }
-    return crossings % 2;
+    return ci.normal.dot(x[i] - ci.point) < 0;
   };
   return reduce_vertices(m.particle_count, Index(0), per_vertex, [](Index a, Index b) { return a + b; });
 }
