@@ -63,38 +63,65 @@ Index count_inside(const Model& m, std::span<const Vec3> x, const CollisionScrat
   return reduce_vertices(m.particle_count, Index(0), per_vertex, [](Index a, Index b) { return a + b; });
 }
 
+// A pair is tested when the x ranges of the triangles' boxes overlap (the pairs of a sweep along x), so the count
+// does not depend on the grid. The grid (mesh_check.h) only skips pairs whose boxes, padded by 1e-3 of their
+// diagonals, are apart: rounding in segment_crosses_triangle moves a crossing by ~1e-5 of the sizes involved at
+// most (mesh_check.cpp), so such a pair never crosses.
 Index count_intersecting_triangles(const Model& m, std::span<const Vec3> x) {
-  // Sweep over the triangles sorted by the low x of their boxes: a pair is tested when the x ranges overlap.
-  std::vector<Real> lo(m.tri_count), hi(m.tri_count);
-  std::vector<Index> order(m.tri_count);
-  for (Index t = 0; t < m.tri_count; ++t) {
-    const Real a = x[m.tri_index[3 * t]].x(), b = x[m.tri_index[3 * t + 1]].x(), c = x[m.tri_index[3 * t + 2]].x();
-    lo[t] = std::min({a, b, c});
-    hi[t] = std::max({a, b, c});
+  const Index n = m.tri_count;
+  std::vector<Vec3> lo(n), hi(n), pad_lo(n), pad_hi(n);
+  for (Index t = 0; t < n; ++t) {
+    const Vec3 &a = x[m.tri_index[3 * t]], &b = x[m.tri_index[3 * t + 1]], &c = x[m.tri_index[3 * t + 2]];
+    lo[t] = a.cwiseMin(b).cwiseMin(c);
+    hi[t] = a.cwiseMax(b).cwiseMax(c);
+    const Vec3 pad = Vec3::Constant(1e-3 * (hi[t] - lo[t]).norm());
+    pad_lo[t] = lo[t] - pad;
+    pad_hi[t] = hi[t] + pad;
   }
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](Index a, Index b) { return lo[a] < lo[b] || (lo[a] == lo[b] && a < b); });
-  auto per_tri = [&](Index k) -> Index {
-    const Index a = order[k];
+  const BoxGrid<3> g = build_box_grid<3>(pad_lo, pad_hi, check_grid_max_cells);
+  std::vector<char> unbinned(n, 0);
+  for (const Index t : g.unbinned) unbinned[t] = 1;
+  auto test_pair = [&](Index a, Index b) -> Index {
+    if (!(lo[b].x() <= hi[a].x() && lo[a].x() <= hi[b].x())) return 0;
+    if (!boxes_overlap({pad_lo[a], pad_hi[a]}, {pad_lo[b], pad_hi[b]})) return 0;
     const Index* pa = &m.tri_index[3 * a];
-    Index hits = 0;
-    for (Index j = k + 1; j < m.tri_count && lo[order[j]] <= hi[a]; ++j) {
-      const Index b = order[j];
-      const Index* pb = &m.tri_index[3 * b];
-      bool adjacent = false;  // sharing a corner, or a corner sewn to one of the other's (a seam)
-      for (int u = 0; u < 3; ++u)
-        for (int w = 0; w < 3; ++w) adjacent = adjacent || m.collision.joined(pa[u], pb[w]);
-      if (adjacent) continue;
-      bool cross = false;
-      for (int e = 0; e < 3 && !cross; ++e) {
-        cross = segment_crosses_triangle(x[pa[e]], x[pa[(e + 1) % 3]], x[pb[0]], x[pb[1]], x[pb[2]]) ||
-                segment_crosses_triangle(x[pb[e]], x[pb[(e + 1) % 3]], x[pa[0]], x[pa[1]], x[pa[2]]);
-      }
-      hits += cross;
+    const Index* pb = &m.tri_index[3 * b];
+    bool adjacent = false;  // sharing a corner, or a corner sewn to one of the other's (a seam)
+    for (int u = 0; u < 3; ++u)
+      for (int w = 0; w < 3; ++w) adjacent = adjacent || m.collision.joined(pa[u], pb[w]);
+    if (adjacent) return 0;
+    bool cross = false;
+    for (int e = 0; e < 3 && !cross; ++e) {
+      cross = segment_crosses_triangle(x[pa[e]], x[pa[(e + 1) % 3]], x[pb[0]], x[pb[1]], x[pb[2]]) ||
+              segment_crosses_triangle(x[pb[e]], x[pb[(e + 1) % 3]], x[pa[0]], x[pa[1]], x[pa[2]]);
     }
+    return cross;
+  };
+  // Each pair once, from its lower triangle: in the first cell both list, or directly when either is unbinned.
+  auto per_tri = [&](Index a) -> Index {
+    Index hits = 0;
+    if (unbinned[a]) {
+      for (Index b = a + 1; b < n; ++b) hits += test_pair(a, b);
+      return hits;
+    }
+    for (const Index b : g.unbinned)
+      if (b > a) hits += test_pair(a, b);
+    BoxGrid<3>::Cell ca, cb;
+    g.cell_range(pad_lo[a], pad_hi[a], ca, cb);
+    const BoxGrid<3>::Cell& fa = g.item_first[a];
+    g.for_each_cell(ca, cb, [&](const BoxGrid<3>::Cell& c) {
+      const Index id = g.cell_id(c);
+      for (Index e = g.cell_offset[id]; e < g.cell_offset[id + 1]; ++e) {
+        const Index b = g.cell_item[e];
+        if (b <= a) continue;
+        const BoxGrid<3>::Cell& fb = g.item_first[b];
+        if (c[0] != std::max(fa[0], fb[0]) || c[1] != std::max(fa[1], fb[1]) || c[2] != std::max(fa[2], fb[2])) continue;
+        hits += test_pair(a, b);
+      }
+    });
     return hits;
   };
-  return reduce_vertices(m.tri_count, Index(0), per_tri, [](Index a, Index b) { return a + b; });
+  return reduce_vertices(n, Index(0), per_tri, [](Index a, Index b) { return a + b; });
 }
 
 Index count_collider_crossings(const Model& m, std::span<const Vec3> x, const CollisionScratch& s, Index c) {

@@ -12,21 +12,7 @@
 namespace clothsim {
 namespace {
 
-// At most ~4M cells (16 MB of offsets): 4 mm cells over a 2 m body in 3D, far finer in the ray's 2D plane.
-constexpr Index max_grid_cells = Index(1) << 22;
 constexpr Index point_grain = 1024;
-
-template <int D, class F>
-void for_each_cell(const typename BoxGrid<D>::Cell& a, const typename BoxGrid<D>::Cell& b, F&& f) {
-  if constexpr (D == 2) {
-    for (Index j = a[1]; j <= b[1]; ++j)
-      for (Index i = a[0]; i <= b[0]; ++i) f(typename BoxGrid<D>::Cell{i, j});
-  } else {
-    for (Index k = a[2]; k <= b[2]; ++k)
-      for (Index j = a[1]; j <= b[1]; ++j)
-        for (Index i = a[0]; i <= b[0]; ++i) f(typename BoxGrid<D>::Cell{i, j, k});
-  }
-}
 
 // The box of the mesh's finite vertices and its diagonal; diag = -1 when there is none.
 struct MeshBox {
@@ -74,7 +60,7 @@ BoxGrid<2> ray_grid(std::span<const Vec3> verts, std::span<const Index> tri_inde
     lo[t] = a.cwiseMin(b).cwiseMin(c) - Vec2::Constant(pad);
     hi[t] = a.cwiseMax(b).cwiseMax(c) + Vec2::Constant(pad);
   }
-  return build_box_grid<2>(lo, hi, max_grid_cells);
+  return build_box_grid<2>(lo, hi, check_grid_max_cells);
 }
 
 // What a point found for the distance: the smallest distance over the triangles it tested, and whether those
@@ -121,12 +107,7 @@ BoxGrid<D> build_box_grid(std::span<const typename BoxGrid<D>::Point> box_lo,
   g.h = size_sum / finite;
   if (!(g.h > 0)) g.h = extent.maxCoeff() / 64;
   if (!(g.h > 0)) g.h = 1;
-  auto cell_range = [&](Index k, Cell& a, Cell& b) {
-    for (int d = 0; d < D; ++d) {
-      a[d] = std::max(g.axis_cell(box_lo[k][d], d), Index(0));
-      b[d] = std::min(g.axis_cell(box_hi[k][d], d), g.n[d] - 1);
-    }
-  };
+  auto cell_range = [&](Index k, Cell& a, Cell& b) { g.cell_range(box_lo[k], box_hi[k], a, b); };
   std::int64_t entries = 0;
   for (;;) {
     Real cells = 1;
@@ -157,7 +138,7 @@ BoxGrid<D> build_box_grid(std::span<const typename BoxGrid<D>::Point> box_lo,
     if (!binned[k]) continue;
     cell_range(k, a, b);
     g.item_first[k] = a;
-    for_each_cell<D>(a, b, [&](const Cell& c) { ++g.cell_offset[g.cell_id(c) + 1]; });
+    g.for_each_cell(a, b, [&](const Cell& c) { ++g.cell_offset[g.cell_id(c) + 1]; });
   }
   for (Index c = 0; c < cells; ++c) g.cell_offset[c + 1] += g.cell_offset[c];
   // Filled in item order, so each cell lists its items ascending whatever the build.
@@ -166,7 +147,7 @@ BoxGrid<D> build_box_grid(std::span<const typename BoxGrid<D>::Point> box_lo,
   for (Index k = 0; k < count; ++k) {
     if (!binned[k]) continue;
     cell_range(k, a, b);
-    for_each_cell<D>(a, b, [&](const Cell& c) { g.cell_item[next[g.cell_id(c)]++] = k; });
+    g.for_each_cell(a, b, [&](const Cell& c) { g.cell_item[next[g.cell_id(c)]++] = k; });
   }
   return g;
 }
@@ -188,7 +169,7 @@ BoxGrid<3> build_distance_grid(std::span<const Vec3> verts, std::span<const Inde
     lo[t] = a.cwiseMin(b).cwiseMin(c);
     hi[t] = a.cwiseMax(b).cwiseMax(c);
   }
-  return build_box_grid<3>(lo, hi, max_grid_cells);
+  return build_box_grid<3>(lo, hi, check_grid_max_cells);
 }
 
 Index count_points_inside(std::span<const Vec3> points, std::span<const Vec3> verts, std::span<const Index> tri_index) {
@@ -257,7 +238,7 @@ Real min_point_distance(std::span<const Vec3> points, std::span<const Vec3> vert
       cells *= b[k] - a[k] + 1;
     }
     if (cells > nt) return every_triangle(p);  // cheaper than the cells' lists
-    for_each_cell<3>(a, b, [&](const BoxGrid<3>::Cell& c) {
+    g.for_each_cell(a, b, [&](const BoxGrid<3>::Cell& c) {
       const Index id = g.cell_id(c);
       for (Index e = g.cell_offset[id]; e < g.cell_offset[id + 1]; ++e) {
         const Index t = g.cell_item[e];

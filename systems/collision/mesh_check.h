@@ -2,6 +2,7 @@
 // Exact point queries against a collider mesh for the independent checks (collision_check.h): the same answer as
 // testing every triangle, found through uniform grids of their own. They share no code with the collide stage's
 // broad phase (spatial_hash, bvh), so that a fault there cannot hide itself in the check.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <span>
@@ -35,7 +36,28 @@ struct BoxGrid {
     for (int k = D - 2; k >= 0; --k) id = id * n[k] + c[k];
     return id;
   }
+  // The cells [a, b] of box [box_lo, box_hi] within the grid; empty (a[k] > b[k]) when it misses the grid.
+  void cell_range(const Point& box_lo, const Point& box_hi, Cell& a, Cell& b) const {
+    for (int k = 0; k < D; ++k) {
+      a[k] = std::max(axis_cell(box_lo[k], k), Index(0));
+      b[k] = std::min(axis_cell(box_hi[k], k), n[k] - 1);
+    }
+  }
+  template <class F>
+  void for_each_cell(const Cell& a, const Cell& b, F&& f) const {
+    if constexpr (D == 2) {
+      for (Index j = a[1]; j <= b[1]; ++j)
+        for (Index i = a[0]; i <= b[0]; ++i) f(Cell{i, j});
+    } else {
+      for (Index k = a[2]; k <= b[2]; ++k)
+        for (Index j = a[1]; j <= b[1]; ++j)
+          for (Index i = a[0]; i <= b[0]; ++i) f(Cell{i, j, k});
+    }
+  }
 };
+
+// At most ~4M cells (16 MB of offsets): 4 mm cells over a 2 m body in 3D, far finer in the ray's 2D plane.
+inline constexpr Index check_grid_max_cells = Index(1) << 22;
 
 // Bins the boxes [box_lo[k], box_hi[k]] into cells about the size of the mean box (its longest side), growing the
 // cells until there are at most max_cells of them and each box overlaps a few on average.

@@ -274,3 +274,96 @@ TEST_CASE("count_inside and min_collider_distance read a collider's own triangle
   model.collision.colliders[1].closed = false;  // inside is not defined for an open mesh
   CHECK(count_inside(model, x, scratch, 1) == 0);
 }
+
+namespace {
+
+// A cloth model of the mesh's triangles, with no collider: what count_intersecting_triangles reads. Stitches
+// sew vertex pairs (both directions in the seam CSR, as build_seams makes it).
+Model cloth_model(const Mesh& mesh, const std::vector<std::pair<Index, Index>>& stitches = {}) {
+  Model m;
+  m.particle_count = Index(mesh.v.size());
+  m.tri_count = Index(mesh.t.size() / 3);
+  m.tri_index = mesh.t;
+  if (!stitches.empty()) {
+    std::vector<std::vector<Index>> rows(m.particle_count);
+    for (const auto& [a, b] : stitches) {
+      rows[a].push_back(b);
+      rows[b].push_back(a);
+    }
+    m.collision.seam_offset.assign(m.particle_count + 1, 0);
+    for (Index i = 0; i < m.particle_count; ++i) {
+      m.collision.seam_offset[i + 1] = m.collision.seam_offset[i] + Index(rows[i].size());
+      m.collision.seam_index.insert(m.collision.seam_index.end(), rows[i].begin(), rows[i].end());
+    }
+  }
+  return m;
+}
+
+// Every pair whose x ranges overlap, tested as the sweep along x did before the grid.
+Index brute_intersecting(const Model& m, const std::vector<Vec3>& x) {
+  Index hits = 0;
+  for (Index a = 0; a < m.tri_count; ++a)
+    for (Index b = a + 1; b < m.tri_count; ++b) {
+      const Index *pa = &m.tri_index[3 * a], *pb = &m.tri_index[3 * b];
+      auto xs = [&](const Index* p, bool high) {
+        return high ? std::max({x[p[0]].x(), x[p[1]].x(), x[p[2]].x()}) : std::min({x[p[0]].x(), x[p[1]].x(), x[p[2]].x()});
+      };
+      if (xs(pb, false) > xs(pa, true) || xs(pa, false) > xs(pb, true)) continue;
+      bool adjacent = false;
+      for (int u = 0; u < 3; ++u)
+        for (int w = 0; w < 3; ++w) adjacent = adjacent || m.collision.joined(pa[u], pb[w]);
+      if (adjacent) continue;
+      bool cross = false;
+      for (int e = 0; e < 3; ++e)
+        cross = cross || segment_crosses_triangle(x[pa[e]], x[pa[(e + 1) % 3]], x[pb[0]], x[pb[1]], x[pb[2]]) ||
+                segment_crosses_triangle(x[pb[e]], x[pb[(e + 1) % 3]], x[pa[0]], x[pa[1]], x[pa[2]]);
+      hits += cross;
+    }
+  return hits;
+}
+
+// An n x n sheet of quads from corner o along edges u and w.
+void add_sheet(Mesh& m, const Vec3& o, const Vec3& u, const Vec3& w, int n) {
+  const Index base = Index(m.v.size());
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.v.push_back(o + u * (Real(i) / n) + w * (Real(j) / n));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const Index a = base + j * (n + 1) + i;
+      m.tri(a, a + 1, a + n + 2);
+      m.tri(a, a + n + 2, a + n + 1);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("count_intersecting_triangles: a hand count, and crossing sheets and a soup as testing every pair") {
+  // One triangle piercing another: one pair; sewn at a corner, a seam, not counted.
+  Mesh two;
+  two.v = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0.2, 0.2, -0.5), Vec3(0.3, 0.2, 0.5), Vec3(0.2, 0.3, 0.5)};
+  two.tri(0, 1, 2);
+  two.tri(3, 4, 5);
+  CHECK(count_intersecting_triangles(cloth_model(two), two.v) == 1);
+  CHECK(count_intersecting_triangles(cloth_model(two, {{0, 3}}), two.v) == 0);
+  // Two sheets crossing at right angles, a tilted third, and a soup of small random triangles over them.
+  Mesh m;
+  add_sheet(m, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1), 12);
+  add_sheet(m, Vec3(0.03, -0.5, 0.5123), Vec3(1, 0, 0), Vec3(0, 1, 0), 10);
+  add_sheet(m, Vec3(-0.2, -0.3, -0.1), Vec3(1.1, 0.4, 0.2), Vec3(0.1, 0.3, 1.2), 9);
+  Random rng{3};
+  for (int k = 0; k < 300; ++k) {
+    const Vec3 c = rng.point(-0.2, 1.2);
+    const Index o = Index(m.v.size());
+    for (int i = 0; i < 3; ++i) m.v.push_back(c + rng.point(-0.06, 0.06));
+    m.tri(o, o + 1, o + 2);
+  }
+  // Sew a few vertices of the first sheet to the second's, as a garment's seams.
+  const Model model = cloth_model(m, {{5, 200}, {17, 201}, {40, 333}});
+  const Index brute = brute_intersecting(model, m.v);
+  CHECK(brute > 100);
+  CHECK(count_intersecting_triangles(model, m.v) == brute);
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    CHECK(count_intersecting_triangles(model, m.v) == brute);
+  }
+}
