@@ -1,7 +1,6 @@
 #include "systems/collision/collision_check.h"
 
 #include <algorithm>
-#include <numeric>
 
 #include "systems/collision/mesh_check.h"
 #include "systems/collision/proximity.h"
@@ -127,38 +126,47 @@ Index count_intersecting_triangles(const Model& m, std::span<const Vec3> x) {
 Index count_collider_crossings(const Model& m, std::span<const Vec3> x, const CollisionScratch& s, Index c) {
   const ColliderInfo& ci = m.collision.colliders[c];
   if ((ci.shape != ColliderShape::mesh && ci.shape != ColliderShape::sequence) || ci.closed) return 0;
-  // Collider triangles sorted by the low x of their boxes; a cloth triangle visits those whose low x lies within
-  // [its low x - the widest collider triangle, its high x], then tests the boxes in full.
+  // Collider triangles binned by their boxes (mesh_check.h's grid); a cloth triangle tests those whose boxes meet
+  // its own, each once: in the first cell of its own box that lists it.
   const Index n = ci.tri_end - ci.tri_begin;
-  std::vector<Aabb> box(n);
-  std::vector<Index> order(n);
-  Real widest = 0;
+  std::vector<Vec3> lo(n), hi(n);
   for (Index k = 0; k < n; ++k) {
     const Index* v = &m.collision.mesh_tri_index[3 * (ci.tri_begin + k)];
     const Vec3 &a = s.collider_x1[v[0]], &b = s.collider_x1[v[1]], &cc = s.collider_x1[v[2]];
-    box[k] = {a.cwiseMin(b).cwiseMin(cc), a.cwiseMax(b).cwiseMax(cc)};
-    widest = std::max(widest, box[k].hi.x() - box[k].lo.x());
+    lo[k] = a.cwiseMin(b).cwiseMin(cc);
+    hi[k] = a.cwiseMax(b).cwiseMax(cc);
   }
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](Index a, Index b) { return box[a].lo.x() < box[b].lo.x() || (box[a].lo.x() == box[b].lo.x() && a < b); });
-  std::vector<Real> sorted_lo(n);
-  for (Index k = 0; k < n; ++k) sorted_lo[k] = box[order[k]].lo.x();
+  const BoxGrid<3> g = build_box_grid<3>(lo, hi, check_grid_max_cells);
   auto per_tri = [&](Index t) -> Index {
     const Index* p = &m.tri_index[3 * t];
     const Aabb own{x[p[0]].cwiseMin(x[p[1]]).cwiseMin(x[p[2]]), x[p[0]].cwiseMax(x[p[1]]).cwiseMax(x[p[2]])};
-    Index hits = 0;
-    for (auto it = std::lower_bound(sorted_lo.begin(), sorted_lo.end(), own.lo.x() - widest);
-         it != sorted_lo.end() && *it <= own.hi.x(); ++it) {
-      const Index k = order[it - sorted_lo.begin()];
-      if (!boxes_overlap(own, box[k])) continue;
+    auto crosses = [&](Index k) -> Index {
+      if (!boxes_overlap(own, {lo[k], hi[k]})) return 0;
       const Index* v = &m.collision.mesh_tri_index[3 * (ci.tri_begin + k)];
       const Vec3 &a = s.collider_x1[v[0]], &b = s.collider_x1[v[1]], &cc = s.collider_x1[v[2]];
       bool cross = false;
       for (int e = 0; e < 3 && !cross; ++e)
         cross = segment_crosses_triangle(x[p[e]], x[p[(e + 1) % 3]], a, b, cc) ||
                 segment_crosses_triangle(s.collider_x1[v[e]], s.collider_x1[v[(e + 1) % 3]], x[p[0]], x[p[1]], x[p[2]]);
-      hits += cross;
+      return cross;
+    };
+    Index hits = 0;
+    if (!own.lo.allFinite() || !own.hi.allFinite()) {
+      for (Index k = 0; k < n; ++k) hits += crosses(k);
+      return hits;
     }
+    for (const Index k : g.unbinned) hits += crosses(k);
+    BoxGrid<3>::Cell ca, cb;
+    g.cell_range(own.lo, own.hi, ca, cb);
+    g.for_each_cell(ca, cb, [&](const BoxGrid<3>::Cell& c) {
+      const Index id = g.cell_id(c);
+      for (Index e = g.cell_offset[id]; e < g.cell_offset[id + 1]; ++e) {
+        const Index k = g.cell_item[e];
+        const BoxGrid<3>::Cell& f = g.item_first[k];
+        if (c[0] != std::max(f[0], ca[0]) || c[1] != std::max(f[1], ca[1]) || c[2] != std::max(f[2], ca[2])) continue;
+        hits += crosses(k);
+      }
+    });
     return hits;
   };
   return reduce_vertices(m.tri_count, Index(0), per_tri, [](Index a, Index b) { return a + b; });

@@ -367,3 +367,49 @@ TEST_CASE("count_intersecting_triangles: a hand count, and crossing sheets and a
     CHECK(count_intersecting_triangles(model, m.v) == brute);
   }
 }
+
+TEST_CASE("count_collider_crossings: a cloth soup over an open collider sheet as testing every pair") {
+  // The collider: an open sheet in y = 0.5 (22 x 22 quads), with one large triangle beside it.
+  Mesh body;
+  add_sheet(body, Vec3(0, 0.5, 0), Vec3(1, 0, 0), Vec3(0, 0, 1), 22);
+  const Index o = Index(body.v.size());
+  body.v.insert(body.v.end(), {Vec3(1.2, -1, 0), Vec3(1.2, 2, 0), Vec3(1.2, 0.5, 3)});
+  body.tri(o, o + 1, o + 2);
+  Mesh cloth;
+  // A thin triangle piercing the sheet inside one of its triangles: one pair.
+  cloth.v = {Vec3(0.51, 0.3, 0.52), Vec3(0.52, 0.3, 0.52), Vec3(0.515, 0.7, 0.525)};
+  cloth.tri(0, 1, 2);
+  Random rng{5};
+  for (int k = 0; k < 400; ++k) {
+    const Vec3 c = rng.point(-0.1, 1.4);
+    const Index b = Index(cloth.v.size());
+    for (int i = 0; i < 3; ++i) cloth.v.push_back(c + rng.point(-0.08, 0.08));
+    cloth.tri(b, b + 1, b + 2);
+  }
+  Model model = cloth_model(cloth);
+  ColliderInfo ci;
+  ci.shape = ColliderShape::mesh;
+  ci.closed = false;
+  ci.tri_end = Index(body.t.size() / 3);
+  ci.vertex_end = Index(body.v.size());
+  model.collision.colliders = {ci};
+  model.collision.mesh_tri_index = body.t;
+  CollisionScratch scratch;
+  scratch.collider_x1 = body.v;
+  Index brute = 0;
+  for (std::size_t t = 0; t < cloth.t.size(); t += 3) {
+    const Vec3 &p0 = cloth.v[cloth.t[t]], &p1 = cloth.v[cloth.t[t + 1]], &p2 = cloth.v[cloth.t[t + 2]];
+    for (std::size_t k = 0; k < body.t.size(); k += 3) {
+      const Vec3 &a = body.v[body.t[k]], &b = body.v[body.t[k + 1]], &c = body.v[body.t[k + 2]];
+      const Vec3 p[3] = {p0, p1, p2}, q[3] = {a, b, c};
+      bool cross = false;
+      for (int e = 0; e < 3; ++e)
+        cross = cross || segment_crosses_triangle(p[e], p[(e + 1) % 3], a, b, c) ||
+                segment_crosses_triangle(q[e], q[(e + 1) % 3], p0, p1, p2);
+      brute += cross;
+    }
+    if (t == 0) CHECK(brute == 1);
+  }
+  CHECK(brute > 30);
+  CHECK(count_collider_crossings(model, cloth.v, scratch, 0) == brute);
+}
