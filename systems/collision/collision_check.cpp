@@ -1,25 +1,23 @@
 #include "systems/collision/collision_check.h"
 
-#include <tbb/parallel_reduce.h>
-
 #include <algorithm>
-#include <numeric>
 
-#include "systems/parallel.h"
+#include "systems/collision/mesh_check.h"
 #include "systems/collision/proximity.h"
+#include "systems/reduce.h"
 
 namespace clothsim {
 namespace {
 
+constexpr Index vertex_grain = 1024;
+
 template <class T, class PerVertex, class Join>
 T reduce_vertices(Index n, T init, PerVertex&& f, Join&& join) {
-  return tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<Index>(0, n, 1024), init,
-      [&](const tbb::blocked_range<Index>& r, T acc) {
-        for (Index i = r.begin(); i != r.end(); ++i) acc = join(acc, f(i));
-        return acc;
-      },
-      join);
+  return deterministic_reduce(n, vertex_grain, init, f, join);
+}
+
+std::span<const Index> collider_tris(const Model& m, const ColliderInfo& ci) {
+  return std::span<const Index>(m.collision.mesh_tri_index).subspan(3 * ci.tri_begin, 3 * (ci.tri_end - ci.tri_begin));
 }
 
 }  // namespace
@@ -41,108 +39,134 @@ bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const
   return t >= 0 && t <= 1;
 }
 
+// Meshes go through mesh_check.h's grids, which give the same value as testing every triangle.
 Real min_collider_distance(const Model& m, std::span<const Vec3> x, const CollisionScratch& s, Index c) {
   const ColliderInfo& ci = m.collision.colliders[c];
+  if (ci.shape != ColliderShape::sphere && ci.shape != ColliderShape::plane)
+    return min_point_distance(x.first(m.particle_count), s.collider_x1, collider_tris(m, ci));
   auto per_vertex = [&](Index i) -> Real {
     if (ci.shape == ColliderShape::sphere) return (x[i] - ci.center).norm() - ci.radius;
-    if (ci.shape == ColliderShape::plane) return ci.normal.dot(x[i] - ci.point);
-    Real best = 1e300;
-    for (Index t = ci.tri_begin; t < ci.tri_end; ++t) {
-      const Index* v = &m.collision.mesh_tri_index[3 * t];
-      best = std::min(best, point_triangle_distance(x[i], s.collider_x1[v[0]], s.collider_x1[v[1]], s.collider_x1[v[2]]));
-    }
-    return best;
+    return ci.normal.dot(x[i] - ci.point);
   };
   return reduce_vertices(m.particle_count, Real(1e300), per_vertex, [](Real a, Real b) { return std::min(a, b); });
 }
 
 Index count_inside(const Model& m, std::span<const Vec3> x, const CollisionScratch& s, Index c) {
   const ColliderInfo& ci = m.collision.colliders[c];
-  if ((ci.shape == ColliderShape::mesh || ci.shape == ColliderShape::sequence) && !ci.closed) return 0;
+  if (ci.shape != ColliderShape::sphere && ci.shape != ColliderShape::plane)
+    return ci.closed ? count_points_inside(x.first(m.particle_count), s.collider_x1, collider_tris(m, ci)) : 0;
   auto per_vertex = [&](Index i) -> Index {
     if (ci.shape == ColliderShape::sphere) return (x[i] - ci.center).norm() < ci.radius;
-    if (ci.shape == ColliderShape::plane) return ci.normal.dot(x[i] - ci.point) < 0;
-    // Parity of crossings along a long ray in a direction unlikely to graze mesh edges.
-    const Vec3 far = x[i] + Vec3(0.5772, 0.6180, 0.5330).normalized() * 1e4;
-    Index crossings = 0;
-    for (Index t = ci.tri_begin; t < ci.tri_end; ++t) {
-      const Index* v = &m.collision.mesh_tri_index[3 * t];
-      crossings += segment_crosses_triangle(x[i], far, s.collider_x1[v[0]], s.collider_x1[v[1]], s.collider_x1[v[2]]);
-    }
-    return crossings % 2;
+    return ci.normal.dot(x[i] - ci.point) < 0;
   };
   return reduce_vertices(m.particle_count, Index(0), per_vertex, [](Index a, Index b) { return a + b; });
 }
 
+// A pair is tested when the x ranges of the triangles' boxes overlap (the pairs of a sweep along x), so the count
+// does not depend on the grid. The grid (mesh_check.h) only skips pairs whose boxes, padded by 1e-3 of their
+// diagonals, are apart: rounding in segment_crosses_triangle moves a crossing by ~1e-5 of the sizes involved at
+// most (mesh_check.cpp), so such a pair never crosses.
 Index count_intersecting_triangles(const Model& m, std::span<const Vec3> x) {
-  // Sweep over the triangles sorted by the low x of their boxes: a pair is tested when the x ranges overlap.
-  std::vector<Real> lo(m.tri_count), hi(m.tri_count);
-  std::vector<Index> order(m.tri_count);
-  for (Index t = 0; t < m.tri_count; ++t) {
-    const Real a = x[m.tri_index[3 * t]].x(), b = x[m.tri_index[3 * t + 1]].x(), c = x[m.tri_index[3 * t + 2]].x();
-    lo[t] = std::min({a, b, c});
-    hi[t] = std::max({a, b, c});
+  const Index n = m.tri_count;
+  std::vector<Vec3> lo(n), hi(n), pad_lo(n), pad_hi(n);
+  for (Index t = 0; t < n; ++t) {
+    const Vec3 &a = x[m.tri_index[3 * t]], &b = x[m.tri_index[3 * t + 1]], &c = x[m.tri_index[3 * t + 2]];
+    lo[t] = a.cwiseMin(b).cwiseMin(c);
+    hi[t] = a.cwiseMax(b).cwiseMax(c);
+    const Vec3 pad = Vec3::Constant(1e-3 * (hi[t] - lo[t]).norm());
+    pad_lo[t] = lo[t] - pad;
+    pad_hi[t] = hi[t] + pad;
   }
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](Index a, Index b) { return lo[a] < lo[b] || (lo[a] == lo[b] && a < b); });
-  auto per_tri = [&](Index k) -> Index {
-    const Index a = order[k];
+  const BoxGrid<3> g = build_box_grid<3>(pad_lo, pad_hi, check_grid_max_cells);
+  std::vector<char> unbinned(n, 0);
+  for (const Index t : g.unbinned) unbinned[t] = 1;
+  auto test_pair = [&](Index a, Index b) -> Index {
+    if (!(lo[b].x() <= hi[a].x() && lo[a].x() <= hi[b].x())) return 0;
+    if (!boxes_overlap({pad_lo[a], pad_hi[a]}, {pad_lo[b], pad_hi[b]})) return 0;
     const Index* pa = &m.tri_index[3 * a];
-    Index hits = 0;
-    for (Index j = k + 1; j < m.tri_count && lo[order[j]] <= hi[a]; ++j) {
-      const Index b = order[j];
-      const Index* pb = &m.tri_index[3 * b];
-      bool adjacent = false;  // sharing a corner, or a corner sewn to one of the other's (a seam)
-      for (int u = 0; u < 3; ++u)
-        for (int w = 0; w < 3; ++w) adjacent = adjacent || m.collision.joined(pa[u], pb[w]);
-      if (adjacent) continue;
-      bool cross = false;
-      for (int e = 0; e < 3 && !cross; ++e) {
-        cross = segment_crosses_triangle(x[pa[e]], x[pa[(e + 1) % 3]], x[pb[0]], x[pb[1]], x[pb[2]]) ||
-                segment_crosses_triangle(x[pb[e]], x[pb[(e + 1) % 3]], x[pa[0]], x[pa[1]], x[pa[2]]);
-      }
-      hits += cross;
+    const Index* pb = &m.tri_index[3 * b];
+    bool adjacent = false;  // sharing a corner, or a corner sewn to one of the other's (a seam)
+    for (int u = 0; u < 3; ++u)
+      for (int w = 0; w < 3; ++w) adjacent = adjacent || m.collision.joined(pa[u], pb[w]);
+    if (adjacent) return 0;
+    bool cross = false;
+    for (int e = 0; e < 3 && !cross; ++e) {
+      cross = segment_crosses_triangle(x[pa[e]], x[pa[(e + 1) % 3]], x[pb[0]], x[pb[1]], x[pb[2]]) ||
+              segment_crosses_triangle(x[pb[e]], x[pb[(e + 1) % 3]], x[pa[0]], x[pa[1]], x[pa[2]]);
     }
+    return cross;
+  };
+  // Each pair once, from its lower triangle: in the first cell both list, or directly when either is unbinned.
+  auto per_tri = [&](Index a) -> Index {
+    Index hits = 0;
+    if (unbinned[a]) {
+      for (Index b = a + 1; b < n; ++b) hits += test_pair(a, b);
+      return hits;
+    }
+    for (const Index b : g.unbinned)
+      if (b > a) hits += test_pair(a, b);
+    BoxGrid<3>::Cell ca, cb;
+    g.cell_range(pad_lo[a], pad_hi[a], ca, cb);
+    const BoxGrid<3>::Cell& fa = g.item_first[a];
+    g.for_each_cell(ca, cb, [&](const BoxGrid<3>::Cell& c) {
+      const Index id = g.cell_id(c);
+      for (Index e = g.cell_offset[id]; e < g.cell_offset[id + 1]; ++e) {
+        const Index b = g.cell_item[e];
+        if (b <= a) continue;
+        const BoxGrid<3>::Cell& fb = g.item_first[b];
+        if (c[0] != std::max(fa[0], fb[0]) || c[1] != std::max(fa[1], fb[1]) || c[2] != std::max(fa[2], fb[2])) continue;
+        hits += test_pair(a, b);
+      }
+    });
     return hits;
   };
-  return reduce_vertices(m.tri_count, Index(0), per_tri, [](Index a, Index b) { return a + b; });
+  return reduce_vertices(n, Index(0), per_tri, [](Index a, Index b) { return a + b; });
 }
 
 Index count_collider_crossings(const Model& m, std::span<const Vec3> x, const CollisionScratch& s, Index c) {
   const ColliderInfo& ci = m.collision.colliders[c];
   if ((ci.shape != ColliderShape::mesh && ci.shape != ColliderShape::sequence) || ci.closed) return 0;
-  // Collider triangles sorted by the low x of their boxes; a cloth triangle visits those whose low x lies within
-  // [its low x - the widest collider triangle, its high x], then tests the boxes in full.
+  // Collider triangles binned by their boxes (mesh_check.h's grid); a cloth triangle tests those whose boxes meet
+  // its own, each once: in the first cell of its own box that lists it.
   const Index n = ci.tri_end - ci.tri_begin;
-  std::vector<Aabb> box(n);
-  std::vector<Index> order(n);
-  Real widest = 0;
+  std::vector<Vec3> lo(n), hi(n);
   for (Index k = 0; k < n; ++k) {
     const Index* v = &m.collision.mesh_tri_index[3 * (ci.tri_begin + k)];
     const Vec3 &a = s.collider_x1[v[0]], &b = s.collider_x1[v[1]], &cc = s.collider_x1[v[2]];
-    box[k] = {a.cwiseMin(b).cwiseMin(cc), a.cwiseMax(b).cwiseMax(cc)};
-    widest = std::max(widest, box[k].hi.x() - box[k].lo.x());
+    lo[k] = a.cwiseMin(b).cwiseMin(cc);
+    hi[k] = a.cwiseMax(b).cwiseMax(cc);
   }
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](Index a, Index b) { return box[a].lo.x() < box[b].lo.x() || (box[a].lo.x() == box[b].lo.x() && a < b); });
-  std::vector<Real> sorted_lo(n);
-  for (Index k = 0; k < n; ++k) sorted_lo[k] = box[order[k]].lo.x();
+  const BoxGrid<3> g = build_box_grid<3>(lo, hi, check_grid_max_cells);
   auto per_tri = [&](Index t) -> Index {
     const Index* p = &m.tri_index[3 * t];
     const Aabb own{x[p[0]].cwiseMin(x[p[1]]).cwiseMin(x[p[2]]), x[p[0]].cwiseMax(x[p[1]]).cwiseMax(x[p[2]])};
-    Index hits = 0;
-    for (auto it = std::lower_bound(sorted_lo.begin(), sorted_lo.end(), own.lo.x() - widest);
-         it != sorted_lo.end() && *it <= own.hi.x(); ++it) {
-      const Index k = order[it - sorted_lo.begin()];
-      if (!boxes_overlap(own, box[k])) continue;
+    auto crosses = [&](Index k) -> Index {
+      if (!boxes_overlap(own, {lo[k], hi[k]})) return 0;
       const Index* v = &m.collision.mesh_tri_index[3 * (ci.tri_begin + k)];
       const Vec3 &a = s.collider_x1[v[0]], &b = s.collider_x1[v[1]], &cc = s.collider_x1[v[2]];
       bool cross = false;
       for (int e = 0; e < 3 && !cross; ++e)
         cross = segment_crosses_triangle(x[p[e]], x[p[(e + 1) % 3]], a, b, cc) ||
                 segment_crosses_triangle(s.collider_x1[v[e]], s.collider_x1[v[(e + 1) % 3]], x[p[0]], x[p[1]], x[p[2]]);
-      hits += cross;
+      return cross;
+    };
+    Index hits = 0;
+    if (!own.lo.allFinite() || !own.hi.allFinite()) {
+      for (Index k = 0; k < n; ++k) hits += crosses(k);
+      return hits;
     }
+    for (const Index k : g.unbinned) hits += crosses(k);
+    BoxGrid<3>::Cell ca, cb;
+    g.cell_range(own.lo, own.hi, ca, cb);
+    g.for_each_cell(ca, cb, [&](const BoxGrid<3>::Cell& c) {
+      const Index id = g.cell_id(c);
+      for (Index e = g.cell_offset[id]; e < g.cell_offset[id + 1]; ++e) {
+        const Index k = g.cell_item[e];
+        const BoxGrid<3>::Cell& f = g.item_first[k];
+        if (c[0] != std::max(f[0], ca[0]) || c[1] != std::max(f[1], ca[1]) || c[2] != std::max(f[2], ca[2])) continue;
+        hits += crosses(k);
+      }
+    });
     return hits;
   };
   return reduce_vertices(m.tri_count, Index(0), per_tri, [](Index a, Index b) { return a + b; });

@@ -1,6 +1,7 @@
 #pragma once
 // Independent checks for --stats and the tests: they share no code with the collide stage's broad or narrow
-// phase (exact distances, ray parity, a sweep over x and segment-triangle tests).
+// phase (exact distances and ray parity through uniform grids of their own, mesh_check.h; a sweep over x and
+// segment-triangle tests).
 #include <span>
 
 #include "core/model.h"
