@@ -27,6 +27,11 @@ void record(FrameSteps& report, const StepResult& result, Integrator integrator)
 }
 }  // namespace
 
+bool collide_stage_jump(const Model& m, const StepResult& result, Real strain_before) {
+  return result.strain_before_collide >= 0 && result.strain_before_collide <= strain_before + FrameStepper::strain_jump &&
+         result.collider_travel <= FrameStepper::collider_travel_fraction * m.collision.max_thickness;
+}
+
 StepVerdict failure_verdict(const StepResult& result, bool strain_jumped) {
   if (result.strain_limit_exhausted) return StepVerdict::strain_limit;
   if (result.failed) return StepVerdict::failed_solve;
@@ -87,7 +92,6 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
   level_ = 0;
   easy_ = 0;
   Real strain = max_spring_strain(m, state.x);
-  Real rejected_jump = 0;  // the strain jump of the step just rejected for one (0: none)
   // Position inside the frame in steps of the current level; the frame ends at steps_per_frame << level.
   std::int64_t pos = 0;
   while (pos < (std::int64_t(o.steps_per_frame) << level_)) {
@@ -100,14 +104,18 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
     else if (!state_is_finite(scratch)) verdict = StepVerdict::non_finite;
     else if ((strain_after = max_spring_strain(m, scratch.x)) > strain + strain_jump) verdict = StepVerdict::strain_jump;
     else if (!(energy_rise(m, scratch) <= energy_bound_)) verdict = StepVerdict::energy_jump;
-    // A strain jump that half the step did not shrink is not the linearisation's (its error falls with the step)
-    // but the collision stage's, whose pushes do not depend on the step: kept and reported, as a fixed step is.
-    const Real jump = strain_after - strain;
-    if (verdict == StepVerdict::strain_jump && rejected_jump > 0 && jump >= step_independent_jump * rejected_jump) {
+    // A strain jump that the collide stage made in a step where no collider moved by more than a quarter of the
+    // thickness: a smaller step would not push the cloth much less, so it is kept and reported, as a fixed step's
+    // is (when the energy stays within its bound), and the step grows back at the next aligned point.
+    bool kept = verdict == StepVerdict::strain_jump && collide_stage_jump(m, result, strain);
+    if (kept && !(energy_rise(m, scratch) <= energy_bound_)) {
+      verdict = StepVerdict::energy_jump;
+      kept = false;
+    }
+    if (kept) {
       if (report.failed++ == 0) report.first_failure = {verdict, h, strain, strain_after, result.solve};
       verdict = StepVerdict::none;
     }
-    rejected_jump = verdict == StepVerdict::strain_jump ? jump : 0;
     if (verdict != StepVerdict::none) {
       // Rejected: state still holds the step's start, untouched (step wrote into scratch only).
       ++report.rejected;
@@ -123,6 +131,7 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
     ++pos;
     count_accepted(report, h);
     // Grow back after a run of easy steps, when the doubled step still ends on the frame.
+    if (kept) easy_ = grow_after - 1;
     if (++easy_ >= grow_after && level_ > 0 && pos % 2 == 0) {
       --level_;
       pos /= 2;

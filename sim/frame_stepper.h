@@ -14,6 +14,9 @@ namespace clothsim::sim {
 enum class StepVerdict { none, failed_solve, non_finite, strain_jump, energy_jump, strain_limit };
 const char* verdict_name(StepVerdict verdict);
 // A step's own failure (the strain limit's, then the solve's) before the frame loop's checks, or a strain jump.
+// True when a strain jump past strain_before + strain_jump is the collide stage's alone and no collider mesh moved
+// by more than collider_travel_fraction of the thickness in the step (the result of a timestep="auto" step).
+bool collide_stage_jump(const Model& model, const StepResult& result, Real strain_before);
 StepVerdict failure_verdict(const StepResult& result, bool strain_jumped);
 
 // A step that failed its check and was kept (fixed timestep), as `run` reports it.
@@ -41,19 +44,22 @@ struct FrameSteps {
 // the strain; the frame's end is checked by the run's divergence guard (sim/simulation.h).
 //
 // A rejection keeps the state the step started from (step writes into scratch only), halves the step and
-// retries; a strain jump that the halving did not shrink below step_independent_jump of the rejected one is
-// kept and counted in `failed`. After grow_after accepted steps in a row the step doubles again, up to
-// options.dt, when that keeps the frame's steps aligned. Each frame starts again at options.dt, so a frame's steps depend on its start state alone
-// and a run resumed from a checkpoint takes the same steps. Every decision uses deterministic sums: the steps
-// are the same at any thread count.
+// retries; a strain jump that the collide stage made while no collider moved into the cloth by a quarter of the
+// thickness (collide_stage_jump) is kept and counted in `failed`, and the step grows back at the next aligned
+// point. After grow_after accepted
+// steps in a row the step doubles again, up to options.dt, when that keeps the frame's steps aligned. Each frame
+// starts again at options.dt, so a frame's steps depend on its start state alone and a run resumed from a
+// checkpoint takes the same steps. Every decision uses deterministic sums: the steps are the same at any thread
+// count.
 class FrameStepper {
  public:
   // More than this rise of the largest spring strain within one step is far beyond what a converged step of cloth
   // does: the linearisation about the step's start was taken too far.
   static constexpr Real strain_jump = 0.1;
-  // A strain jump at half the step of a rejected one that is still this fraction of it or more does not come
-  // from the step's size: the step is kept and reported (docs/stability.md, "Automatic steps").
-  static constexpr Real step_independent_jump = 0.9;
+  // A strain jump is the collide stage's alone when the strain before that stage rose by no more than
+  // strain_jump; it is kept when no collider-mesh vertex moved by more than this fraction of the thickness in the
+  // step, since a smaller step then moves nothing less (docs/stability.md, "Automatic steps").
+  static constexpr Real collider_travel_fraction = 0.25;
   static constexpr int grow_after = 16;
 
   // start: the scene's initial state (energies are measured from it, as the run's divergence guard does).

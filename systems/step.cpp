@@ -8,6 +8,7 @@
 #include "systems/integrate_explicit.h"
 #include "systems/integrate_implicit.h"
 #include "systems/integrate_rk4.h"
+#include "systems/spring_forces.h"
 #include "systems/stitch_forces.h"
 #include "systems/strain_limit.h"
 
@@ -52,6 +53,7 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
       result.strain_limit_exhausted = true;
     }
   }
+  if (options.auto_step && model.collision.enabled) result.strain_before_collide = max_spring_strain(model, out.x);
   const auto t1 = clock::now();
   const CollideCounts collided = collide(model, in, out, ws, h);
   const auto t2 = clock::now();
@@ -59,6 +61,7 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
   out.step = in.step + 1;
   result.counts.contacts = collided.contacts;
   result.counts.zones = collided.zones;
+  result.collider_travel = collided.collider_travel;
   result.counts.seconds_collide = std::chrono::duration<double>(t2 - t1).count();
   result.counts.seconds_integrate = std::chrono::duration<double>(t1 - t0).count() - result.counts.seconds_forces;
   return result;

@@ -48,6 +48,11 @@ struct StepResult {
   bool strain_limit_exhausted = false;  // failed because the strain limit stopped at its sweep cap, unmet
   SolveRecord solve;  // the implicit solve's record (untouched for the explicit integrators)
   StepCounts counts;
+  // For timestep="auto" with collisions (sim/frame_stepper.h tells the collide stage's strain jumps from the
+  // integrator's): the largest spring strain before the collide stage (-1: not measured), and how far the
+  // farthest collider-mesh vertex moved over the step, m.
+  Real strain_before_collide = -1;
+  Real collider_travel = 0;
 };
 
 }  // namespace clothsim

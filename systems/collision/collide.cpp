@@ -33,6 +33,8 @@ CollideCounts collide(const Model& m, const State& in, State& out, Workspace& ws
   if (!c.enabled) return counts;
   CollisionScratch& s = ws.collision;
   place_colliders(m, in.time, h, s);
+  for (std::size_t v = 0; v < s.collider_x1.size(); ++v)
+    counts.collider_travel = std::max(counts.collider_travel, (s.collider_x1[v] - s.collider_x0[v]).norm());
   push_out_deep_vertices(m, in, out, s, h);
   const bool broad = !c.prim.empty();
   if (broad) build_broad_phase(m, in, out, s);
