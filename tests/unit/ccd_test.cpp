@@ -163,7 +163,7 @@ TEST_CASE("a vertex sliding within a triangle's plane: its cubic vanishes, and i
   CHECK(hit.d == doctest::Approx(0).scale(1));
 }
 
-TEST_CASE("edge-edge crossing: a near miss within the thickness is no crossing; edges that meet are") {
+TEST_CASE("edge-edge crossing: a near miss within the thickness is no crossing, edges that meet are") {
   // P from (-1, 0, -c) to (0, 0, 0) tilts its far end to (-1, 0, c) over the step; Q lies from (-0.5, g, 0) to
   // (0.5, g, 0). The lines are coplanar at t = 1/2 (P then along x, parallel to Q), g apart in y: they pass each
   // other g = 2 mm apart, never through, within a 10 mm thickness. The lines' cross product would send the pair
