@@ -148,13 +148,23 @@ TEST_CASE("a fixed implicit step that stretches a spring by more than strain_jum
 // A 3 x 3 sheet (10 cm springs) at rest without gravity, 4 cm thick, pierced by a vertical needle (a thin collider
 // triangle) through the centroid of one of its triangles, 2.9 cm from its edges: the collide stage pushes those
 // edges out to one thickness from the needle, a push that does not depend on the step.
-std::string needle_scene(const std::string& name, const std::string& timestep) {
+// With `moving`, the needle is a two-frame sequence that moves 2 cm along x over the frame.
+std::string needle_scene(const std::string& name, const std::string& timestep, bool moving = false) {
   const auto dir = scratch_dir(name);
-  write_text(dir / "needle.obj", "v -0.0672 -1 -0.0667\nv -0.0662 -1 -0.0667\nv -0.0667 1 -0.0667\nf 1 2 3\n");
+  auto needle = [](Real dx) {
+    char text[160];
+    std::snprintf(text, sizeof text, "v %.4f -1 -0.0667\nv %.4f -1 -0.0667\nv %.4f 1 -0.0667\nf 1 2 3\n", -0.0672 + dx,
+                  -0.0662 + dx, -0.0667 + dx);
+    return std::string(text);
+  };
+  write_text(dir / "needle.obj", needle(0));
+  write_text(dir / "needle1.obj", needle(0));
+  write_text(dir / "needle2.obj", needle(0.02));
+  const std::string collider = moving ? "sequence=\"" + (dir / "needle#.obj").string() : "obj=\"" + (dir / "needle.obj").string();
   return R"(<scene>
   <simulation timestep=")" + timestep + R"(" fps="100" startFrame="1" endFrame="2" integrator="implicit" gravity="0 0 0"/>
   <cloth name="sheet" grid="3 3" size="0.2 0.2"><thickness value="0.04"/></cloth>
-  <static obj=")" + (dir / "needle.obj").string() + R"("/>
+  <static )" + collider + R"("/>
 </scene>)";
 }
 
@@ -184,4 +194,26 @@ TEST_CASE("auto: a strain jump of the collide stage against a still collider is 
   MESSAGE("strain after the push: " << r.first_failure.strain_after << " (auto), " << fr.first_failure.strain_after
                                     << " (fixed)");
   CHECK(r.first_failure.strain_after == fr.first_failure.strain_after);
+}
+
+TEST_CASE("auto: a strain jump while a collider moves into the cloth by more than a quarter thickness is halved") {
+  // The needle moves 2 cm in the frame's 10 ms: a whole step moves it 2 thickness-quarters (1 cm each), so the
+  // collide stage's jump is halved until a step moves it 1 cm or less, and only then may be kept.
+  const auto dir = scratch_dir("auto_moving");
+  write_text(dir / "scene.xml", needle_scene("auto_moving_mesh", "auto", true));
+  const auto sc = load_collision_scene(dir / "scene.xml");
+  const Real dt = sc.built.options.dt;
+  int frames = 0;
+  run_frames(sc, [&](int f, const Model&, const State& state, const Workspace&, const sim::FrameReport& r) {
+    if (f == sc.built.options.start_frame) return;
+    ++frames;
+    CHECK(state.time == doctest::Approx(0.01));
+    CHECK(r.steps.rejected >= 1);
+    CHECK(r.steps.smallest <= dt / 2);
+    REQUIRE(r.steps.failed >= 1);
+    CHECK(r.steps.first_failure.step <= dt / 2);
+    MESSAGE("rejected " << r.steps.rejected << ", kept failed " << r.steps.failed << ", smallest step "
+                        << r.steps.smallest << ", kept at " << r.steps.first_failure.step);
+  });
+  CHECK(frames == 1);
 }
