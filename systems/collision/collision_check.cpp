@@ -158,15 +158,7 @@ Index count_collider_crossings(const Model& m, std::span<const Vec3> x, const Co
     for (const Index k : g.unbinned) hits += crosses(k);
     BoxGrid<3>::Cell ca, cb;
     g.cell_range(own.lo, own.hi, ca, cb);
-    g.for_each_cell(ca, cb, [&](const BoxGrid<3>::Cell& c) {
-      const Index id = g.cell_id(c);
-      for (Index e = g.cell_offset[id]; e < g.cell_offset[id + 1]; ++e) {
-        const Index k = g.cell_item[e];
-        const BoxGrid<3>::Cell& f = g.item_first[k];
-        if (c[0] != std::max(f[0], ca[0]) || c[1] != std::max(f[1], ca[1]) || c[2] != std::max(f[2], ca[2])) continue;
-        hits += crosses(k);
-      }
-    });
+    g.for_each_item(ca, cb, [&](Index k) { hits += crosses(k); });
     return hits;
   };
   return reduce_vertices(m.tri_count, Index(0), per_tri, [](Index a, Index b) { return a + b; });

@@ -238,16 +238,7 @@ Real min_point_distance(std::span<const Vec3> points, std::span<const Vec3> vert
       cells *= b[k] - a[k] + 1;
     }
     if (cells > nt) return every_triangle(p);  // cheaper than the cells' lists
-    g.for_each_cell(a, b, [&](const BoxGrid<3>::Cell& c) {
-      const Index id = g.cell_id(c);
-      for (Index e = g.cell_offset[id]; e < g.cell_offset[id + 1]; ++e) {
-        const Index t = g.cell_item[e];
-        // A triangle is tested in the first cell of the cube that lists it, not once per cell.
-        const BoxGrid<3>::Cell& f = g.item_first[t];
-        if (c[0] != std::max(f[0], a[0]) || c[1] != std::max(f[1], a[1]) || c[2] != std::max(f[2], a[2])) continue;
-        best = std::min(best, distance(p, t));
-      }
-    });
+    g.for_each_item(a, b, [&](Index t) { best = std::min(best, distance(p, t)); });
     return {best, whole};
   };
   auto join = [](const Nearest& x, const Nearest& y) { return Nearest{std::min(x.d, y.d), x.complete && y.complete}; };

@@ -43,6 +43,19 @@ struct BoxGrid {
       b[k] = std::min(axis_cell(box_hi[k], k), n[k] - 1);
     }
   }
+  // Calls f(item) once for each item listed in the cells [a, b]: in the first cell of the range that lists it.
+  template <class F>
+  void for_each_item(const Cell& a, const Cell& b, F&& f) const {
+    for_each_cell(a, b, [&](const Cell& c) {
+      const Index id = cell_id(c);
+      for (Index e = cell_offset[id]; e < cell_offset[id + 1]; ++e) {
+        const Index item = cell_item[e];
+        bool first = true;
+        for (int k = 0; k < D; ++k) first = first && c[k] == std::max(item_first[item][k], a[k]);
+        if (first) f(item);
+      }
+    });
+  }
   template <class F>
   void for_each_cell(const Cell& a, const Cell& b, F&& f) const {
     if constexpr (D == 2) {

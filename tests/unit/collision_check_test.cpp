@@ -322,6 +322,16 @@ Index brute_intersecting(const Model& m, const std::vector<Vec3>& x) {
   return hits;
 }
 
+// `count` loose triangles, each within `spread` of a centre drawn in [lo, hi]^3.
+void add_soup(Mesh& m, Random rng, int count, Real lo, Real hi, Real spread) {
+  for (int k = 0; k < count; ++k) {
+    const Vec3 c = rng.point(lo, hi);
+    const Index o = Index(m.v.size());
+    for (int i = 0; i < 3; ++i) m.v.push_back(c + rng.point(-spread, spread));
+    m.tri(o, o + 1, o + 2);
+  }
+}
+
 // An n x n sheet of quads from corner o along edges u and w.
 void add_sheet(Mesh& m, const Vec3& o, const Vec3& u, const Vec3& w, int n) {
   const Index base = Index(m.v.size());
@@ -350,13 +360,7 @@ TEST_CASE("count_intersecting_triangles: a hand count, and crossing sheets and a
   add_sheet(m, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1), 12);
   add_sheet(m, Vec3(0.03, -0.5, 0.5123), Vec3(1, 0, 0), Vec3(0, 1, 0), 10);
   add_sheet(m, Vec3(-0.2, -0.3, -0.1), Vec3(1.1, 0.4, 0.2), Vec3(0.1, 0.3, 1.2), 9);
-  Random rng{3};
-  for (int k = 0; k < 300; ++k) {
-    const Vec3 c = rng.point(-0.2, 1.2);
-    const Index o = Index(m.v.size());
-    for (int i = 0; i < 3; ++i) m.v.push_back(c + rng.point(-0.06, 0.06));
-    m.tri(o, o + 1, o + 2);
-  }
+  add_soup(m, Random{3}, 300, -0.2, 1.2, 0.06);
   // Sew a few vertices of the first sheet to the second's, as a garment's seams.
   const Model model = cloth_model(m, {{5, 200}, {17, 201}, {40, 333}});
   const Index brute = brute_intersecting(model, m.v);
@@ -379,13 +383,7 @@ TEST_CASE("count_collider_crossings: a cloth soup over an open collider sheet as
   // A thin triangle piercing the sheet inside one of its triangles: one pair.
   cloth.v = {Vec3(0.51, 0.3, 0.52), Vec3(0.52, 0.3, 0.52), Vec3(0.515, 0.7, 0.525)};
   cloth.tri(0, 1, 2);
-  Random rng{5};
-  for (int k = 0; k < 400; ++k) {
-    const Vec3 c = rng.point(-0.1, 1.4);
-    const Index b = Index(cloth.v.size());
-    for (int i = 0; i < 3; ++i) cloth.v.push_back(c + rng.point(-0.08, 0.08));
-    cloth.tri(b, b + 1, b + 2);
-  }
+  add_soup(cloth, Random{5}, 400, -0.1, 1.4, 0.08);
   Model model = cloth_model(cloth);
   ColliderInfo ci;
   ci.shape = ColliderShape::mesh;
