@@ -29,7 +29,7 @@ void record(FrameSteps& report, const StepResult& result, Integrator integrator)
 
 bool collide_stage_jump(const Model& m, const StepResult& result, Real strain_before) {
   return result.strain_before_collide >= 0 && result.strain_before_collide <= strain_before + FrameStepper::strain_jump &&
-         result.collider_travel <= FrameStepper::collider_travel_fraction * m.collision.max_thickness;
+         result.travel <= FrameStepper::travel_fraction * m.collision.max_thickness;
 }
 
 StepVerdict failure_verdict(const StepResult& result, bool strain_jumped) {
@@ -104,9 +104,10 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
     else if (!state_is_finite(scratch)) verdict = StepVerdict::non_finite;
     else if ((strain_after = max_spring_strain(m, scratch.x)) > strain + strain_jump) verdict = StepVerdict::strain_jump;
     else if (!(energy_rise(m, scratch) <= energy_bound_)) verdict = StepVerdict::energy_jump;
-    // A strain jump that the collide stage made in a step where no collider moved by more than a quarter of the
-    // thickness: a smaller step would not push the cloth much less, so it is kept and reported, as a fixed step's
-    // is (when the energy stays within its bound), and the step grows back at the next aligned point.
+    // A strain jump that the collide stage made in a step where neither a collider nor the cloth moved by more
+    // than a quarter of the thickness: a smaller step would not push the cloth much less, so it is kept and
+    // reported, as a fixed step's is (when the energy stays within its bound); the step grows back at the next
+    // aligned point.
     bool kept = verdict == StepVerdict::strain_jump && collide_stage_jump(m, result, strain);
     if (kept && !(energy_rise(m, scratch) <= energy_bound_)) {
       verdict = StepVerdict::energy_jump;

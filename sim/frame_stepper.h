@@ -14,8 +14,8 @@ namespace clothsim::sim {
 enum class StepVerdict { none, failed_solve, non_finite, strain_jump, energy_jump, strain_limit };
 const char* verdict_name(StepVerdict verdict);
 // A step's own failure (the strain limit's, then the solve's) before the frame loop's checks, or a strain jump.
-// True when a strain jump past strain_before + strain_jump is the collide stage's alone and no collider mesh moved
-// by more than collider_travel_fraction of the thickness in the step (the result of a timestep="auto" step).
+// True when a strain jump past strain_before + strain_jump is the collide stage's alone and no collider-mesh vertex
+// or cloth particle moved by more than travel_fraction of the thickness in the step (a timestep="auto" step).
 bool collide_stage_jump(const Model& model, const StepResult& result, Real strain_before);
 StepVerdict failure_verdict(const StepResult& result, bool strain_jumped);
 
@@ -44,7 +44,7 @@ struct FrameSteps {
 // the strain; the frame's end is checked by the run's divergence guard (sim/simulation.h).
 //
 // A rejection keeps the state the step started from (step writes into scratch only), halves the step and
-// retries; a strain jump that the collide stage made while no collider moved into the cloth by a quarter of the
+// retries; a strain jump that the collide stage made while neither collider nor cloth moved by a quarter of the
 // thickness (collide_stage_jump) is kept and counted in `failed`, and the step grows back at the next aligned
 // point. After grow_after accepted
 // steps in a row the step doubles again, up to options.dt, when that keeps the frame's steps aligned. Each frame
@@ -57,9 +57,10 @@ class FrameStepper {
   // does: the linearisation about the step's start was taken too far.
   static constexpr Real strain_jump = 0.1;
   // A strain jump is the collide stage's alone when the strain before that stage rose by no more than
-  // strain_jump; it is kept when no collider-mesh vertex moved by more than this fraction of the thickness in the
-  // step, since a smaller step then moves nothing less (docs/stability.md, "Automatic steps").
-  static constexpr Real collider_travel_fraction = 0.25;
+  // strain_jump; it is kept when no collider-mesh vertex and no cloth particle moved by more than this fraction
+  // of the thickness in the step: a smaller step then would not push much less (docs/stability.md, "Automatic
+  // steps").
+  static constexpr Real travel_fraction = 0.25;
   static constexpr int grow_after = 16;
 
   // start: the scene's initial state (energies are measured from it, as the run's divergence guard does).

@@ -61,7 +61,7 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
   out.step = in.step + 1;
   result.counts.contacts = collided.contacts;
   result.counts.zones = collided.zones;
-  result.collider_travel = collided.collider_travel;
+  result.travel = collided.travel;
   result.counts.seconds_collide = std::chrono::duration<double>(t2 - t1).count();
   result.counts.seconds_integrate = std::chrono::duration<double>(t1 - t0).count() - result.counts.seconds_forces;
   return result;

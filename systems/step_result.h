@@ -50,9 +50,9 @@ struct StepResult {
   StepCounts counts;
   // For timestep="auto" with collisions (sim/frame_stepper.h tells the collide stage's strain jumps from the
   // integrator's): the largest spring strain before the collide stage (-1: not measured), and how far the
-  // farthest collider-mesh vertex moved over the step, m.
+  // farthest collider-mesh vertex or cloth particle moved over the step before that stage, m.
   Real strain_before_collide = -1;
-  Real collider_travel = 0;
+  Real travel = 0;
 };
 
 }  // namespace clothsim
