@@ -100,23 +100,20 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
     record(report, result, o.integrator);
     StepVerdict verdict = StepVerdict::none;
     Real strain_after = strain;
+    // A strain jump that the collide stage made in a step where neither a collider nor the cloth moved by more
+    // than a quarter of the thickness: a smaller step would not push the cloth much less, so it goes on to the
+    // energy check and, passing it, is kept and reported as a fixed step's is; the step grows back at the next
+    // aligned point.
+    bool kept = false;
     if (result.failed) verdict = failure_verdict(result, false);
     else if (!state_is_finite(scratch)) verdict = StepVerdict::non_finite;
-    else if ((strain_after = max_spring_strain(m, scratch.x)) > strain + strain_jump) verdict = StepVerdict::strain_jump;
+    else if ((strain_after = max_spring_strain(m, scratch.x)) > strain + strain_jump &&
+             !(kept = collide_stage_jump(m, result, strain)))
+      verdict = StepVerdict::strain_jump;
     else if (!(energy_rise(m, scratch) <= energy_bound_)) verdict = StepVerdict::energy_jump;
-    // A strain jump that the collide stage made in a step where neither a collider nor the cloth moved by more
-    // than a quarter of the thickness: a smaller step would not push the cloth much less, so it is kept and
-    // reported, as a fixed step's is (when the energy stays within its bound); the step grows back at the next
-    // aligned point.
-    bool kept = verdict == StepVerdict::strain_jump && collide_stage_jump(m, result, strain);
-    if (kept && !(energy_rise(m, scratch) <= energy_bound_)) {
-      verdict = StepVerdict::energy_jump;
-      kept = false;
-    }
-    if (kept) {
-      if (report.failed++ == 0) report.first_failure = {verdict, h, strain, strain_after, result.solve};
-      verdict = StepVerdict::none;
-    }
+    kept = kept && verdict == StepVerdict::none;
+    if (kept && report.failed++ == 0)
+      report.first_failure = {StepVerdict::strain_jump, h, strain, strain_after, result.solve};
     if (verdict != StepVerdict::none) {
       // Rejected: state still holds the step's start, untouched (step wrote into scratch only).
       ++report.rejected;

@@ -13,10 +13,10 @@ namespace clothsim::sim {
 // Why a step failed its check; `none` for a sound one.
 enum class StepVerdict { none, failed_solve, non_finite, strain_jump, energy_jump, strain_limit };
 const char* verdict_name(StepVerdict verdict);
-// A step's own failure (the strain limit's, then the solve's) before the frame loop's checks, or a strain jump.
 // True when a strain jump past strain_before + strain_jump is the collide stage's alone and no collider-mesh vertex
 // or cloth particle moved by more than travel_fraction of the thickness in the step (a timestep="auto" step).
 bool collide_stage_jump(const Model& model, const StepResult& result, Real strain_before);
+// A step's own failure (the strain limit's, then the solve's) before the frame loop's checks, or a strain jump.
 StepVerdict failure_verdict(const StepResult& result, bool strain_jumped);
 
 // A step that failed its check and was kept (fixed timestep), as `run` reports it.
@@ -31,7 +31,7 @@ struct StepFailure {
 struct FrameSteps {
   int taken = 0, rejected = 0;
   Real smallest = 0, largest = 0;  // s, accepted steps
-  int failed = 0;                  // accepted steps that failed their check (fixed timestep; auto: see below)
+  int failed = 0;                  // accepted steps that failed their check and were kept
   StepFailure first_failure;       // the first of them
   std::vector<SolveRecord> solves; // implicit: every solve of the frame, rejected steps' included, in order
   StepCounts counts;               // what every step of the frame did, rejected ones included
@@ -46,11 +46,10 @@ struct FrameSteps {
 // A rejection keeps the state the step started from (step writes into scratch only), halves the step and
 // retries; a strain jump that the collide stage made while neither collider nor cloth moved by a quarter of the
 // thickness (collide_stage_jump) is kept and counted in `failed`, and the step grows back at the next aligned
-// point. After grow_after accepted
-// steps in a row the step doubles again, up to options.dt, when that keeps the frame's steps aligned. Each frame
-// starts again at options.dt, so a frame's steps depend on its start state alone and a run resumed from a
-// checkpoint takes the same steps. Every decision uses deterministic sums: the steps are the same at any thread
-// count.
+// point. After grow_after accepted steps in a row the step doubles again, up to options.dt, when that keeps the
+// frame's steps aligned. Each frame starts again at options.dt, so a frame's steps depend on its start state
+// alone and a run resumed from a checkpoint takes the same steps. Every decision uses deterministic sums: the
+// steps are the same at any thread count.
 class FrameStepper {
  public:
   // More than this rise of the largest spring strain within one step is far beyond what a converged step of cloth

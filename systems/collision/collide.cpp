@@ -33,9 +33,6 @@ CollideCounts collide(const Model& m, const State& in, State& out, Workspace& ws
   if (!c.enabled) return counts;
   CollisionScratch& s = ws.collision;
   place_colliders(m, in.time, h, s);
-  for (std::size_t v = 0; v < s.collider_x1.size(); ++v)
-    counts.travel = std::max(counts.travel, (s.collider_x1[v] - s.collider_x0[v]).norm());
-  for (Index i = 0; i < m.particle_count; ++i) counts.travel = std::max(counts.travel, (out.x[i] - in.x[i]).norm());
   push_out_deep_vertices(m, in, out, s, h);
   const bool broad = !c.prim.empty();
   if (broad) build_broad_phase(m, in, out, s);

@@ -17,7 +17,6 @@ namespace clothsim {
 struct CollideCounts {
   std::int64_t contacts = 0;  // contacts of the first proximity pass
   ZoneFigures zones;          // what the impact zones did
-  Real travel = 0;  // the farthest any collider-mesh vertex or cloth particle moved over the step before the stage, m
 };
 
 // The step from `in` (start) to `out` (integrated, changed in place) of length h.
