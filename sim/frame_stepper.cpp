@@ -27,9 +27,9 @@ void record(FrameSteps& report, const StepResult& result, Integrator integrator)
 }
 }  // namespace
 
-bool collide_stage_jump(const Model& m, const StepResult& result, Real strain_before) {
+bool collide_stage_jump(const Model& m, const StepResult& result, Real strain_before, bool at_floor) {
   return result.strain_before_collide >= 0 && result.strain_before_collide <= strain_before + FrameStepper::strain_jump &&
-         result.travel <= FrameStepper::travel_fraction * m.collision.max_thickness;
+         (at_floor || result.travel <= FrameStepper::travel_fraction * m.collision.max_thickness);
 }
 
 StepVerdict failure_verdict(const StepResult& result, bool strain_jumped) {
@@ -101,14 +101,15 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
     StepVerdict verdict = StepVerdict::none;
     Real strain_after = strain;
     // A strain jump that the collide stage made in a step where neither a collider nor the cloth moved by more
-    // than a quarter of the thickness: a smaller step would not push the cloth much less, so it goes on to the
-    // energy check and, passing it, is kept and reported as a fixed step's is; the step grows back at the next
-    // aligned point.
+    // than a quarter of the thickness, or that it still makes at minTimestep: a smaller step would not push the
+    // cloth much less, so it goes on to the energy check and, passing it, is kept and reported as a fixed step's
+    // is; the step grows back at the next aligned point.
     bool kept = false;
+    const bool at_floor = 0.5 * h < o.min_dt || level_ >= max_level;
     if (result.failed) verdict = failure_verdict(result, false);
     else if (!state_is_finite(scratch)) verdict = StepVerdict::non_finite;
     else if ((strain_after = max_spring_strain(m, scratch.x)) > strain + strain_jump &&
-             !(kept = collide_stage_jump(m, result, strain)))
+             !(kept = collide_stage_jump(m, result, strain, at_floor)))
       verdict = StepVerdict::strain_jump;
     else if (!(energy_rise(m, scratch) <= energy_bound_)) verdict = StepVerdict::energy_jump;
     kept = kept && verdict == StepVerdict::none;
@@ -118,7 +119,7 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
       // Rejected: state still holds the step's start, untouched (step wrote into scratch only).
       ++report.rejected;
       last_ = verdict;
-      if (0.5 * h < o.min_dt || level_ >= max_level) return false;
+      if (at_floor) return false;
       ++level_;
       pos *= 2;
       easy_ = 0;

@@ -13,9 +13,10 @@ namespace clothsim::sim {
 // Why a step failed its check; `none` for a sound one.
 enum class StepVerdict { none, failed_solve, non_finite, strain_jump, energy_jump, strain_limit };
 const char* verdict_name(StepVerdict verdict);
-// True when a strain jump past strain_before + strain_jump is the collide stage's alone and no collider-mesh vertex
-// or cloth particle moved by more than travel_fraction of the thickness in the step (a timestep="auto" step).
-bool collide_stage_jump(const Model& model, const StepResult& result, Real strain_before);
+// True when a strain jump past strain_before + strain_jump is the collide stage's alone and either no collider-mesh
+// vertex or cloth particle moved by more than travel_fraction of the thickness in the step, or the step is the
+// smallest allowed (at_floor) (a timestep="auto" step).
+bool collide_stage_jump(const Model& model, const StepResult& result, Real strain_before, bool at_floor);
 // A step's own failure (the strain limit's, then the solve's) before the frame loop's checks, or a strain jump.
 StepVerdict failure_verdict(const StepResult& result, bool strain_jumped);
 
@@ -45,8 +46,8 @@ struct FrameSteps {
 //
 // A rejection keeps the state the step started from (step writes into scratch only), halves the step and
 // retries; a strain jump that the collide stage made while neither collider nor cloth moved by a quarter of the
-// thickness (collide_stage_jump) is kept and counted in `failed`, and the step grows back at the next aligned
-// point. After grow_after accepted steps in a row the step doubles again, up to options.dt, when that keeps the
+// thickness, or still made at minTimestep (collide_stage_jump), is kept and counted in `failed`, and the step grows
+// back at the next aligned point. After grow_after accepted steps in a row the step doubles again, up to options.dt, when that keeps the
 // frame's steps aligned. Each frame starts again at options.dt, so a frame's steps depend on its start state
 // alone and a run resumed from a checkpoint takes the same steps. Every decision uses deterministic sums: the
 // steps are the same at any thread count.

@@ -42,6 +42,14 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
       result = integrate_implicit(model, options.solver, in, out, ws, h);
       break;
   }
+  // What the automatic step needs to tell the collide stage's strain jumps from the integrator's
+  // (sim/frame_stepper.h); nothing for a fixed step. The cloth's travel is the integrator's h|v| alone: the stitch
+  // and strain limits' corrections do not shrink with the step, and in a pinch they alone would count as motion.
+  const bool measure = options.auto_step && model.collision.enabled;
+  const auto farther = [](Real a, Real b) { return std::max(a, b); };
+  if (measure)
+    result.travel = deterministic_reduce(model.particle_count, particle_grain, Real(0),
+                                         [&](Index i) { return (out.x[i] - in.x[i]).norm(); }, farther);
   apply_attachments(model, ws.collision, in, out, h);
   if (model.stitch_count > 0) apply_stitch_limit(model, ws.stitch_rest, out, h, in.time + h);
   // Collisions end the step (Bridson et al. 2002 §7): the strain limit's projections move particles without
@@ -54,15 +62,7 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
       result.strain_limit_exhausted = true;
     }
   }
-  // What the automatic step needs to tell the collide stage's strain jumps from the integrator's
-  // (sim/frame_stepper.h); nothing for a fixed step.
-  const bool measure = options.auto_step && model.collision.enabled;
-  const auto farther = [](Real a, Real b) { return std::max(a, b); };
-  if (measure) {
-    result.strain_before_collide = max_spring_strain(model, out.x);
-    result.travel = deterministic_reduce(model.particle_count, particle_grain, Real(0),
-                                         [&](Index i) { return (out.x[i] - in.x[i]).norm(); }, farther);
-  }
+  if (measure) result.strain_before_collide = max_spring_strain(model, out.x);
   const auto t1 = clock::now();
   const CollideCounts collided = collide(model, in, out, ws, h);
   if (measure) {  // the colliders' positions over the step, as the collide stage placed them

@@ -11,6 +11,7 @@
 #include "systems/auto_step.h"
 #include "systems/diagnostics.h"
 #include "systems/spring_forces.h"
+#include "systems/step.h"
 #include "tests/support/collision_scene.h"
 #include "tests/support/scene_fixtures.h"
 
@@ -214,6 +215,89 @@ TEST_CASE("auto: a strain jump while a collider moves into the cloth by more tha
     CHECK(r.steps.first_failure.step <= dt / 2);
     MESSAGE("rejected " << r.steps.rejected << ", kept failed " << r.steps.failed << ", smallest step "
                         << r.steps.smallest << ", kept at " << r.steps.first_failure.step);
+  });
+  CHECK(frames == 1);
+}
+
+TEST_CASE("auto: the strain limit's corrections in a pierced sheet do not count as the cloth's travel") {
+  // The needle's sheet as an OBJ whose rest mesh is 0.8 times its size, with maxStrain 0.1: every spring starts 25%
+  // long, and the strain limit pulls the corners in by about 1.5 cm in the first step, more than a quarter of
+  // the 4 cm thickness, whatever the step. The cloth's own motion (h |v| from the integrator) is far smaller,
+  // so the needle's push is the collide stage's alone and is kept at once, as against the plain sheet.
+  const auto dir = scratch_dir("auto_limit_travel_sheet");
+  auto grid = [](Real s) {
+    std::string text;
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i)
+        text += "v " + std::to_string(s * 0.1 * (i - 1)) + " 0 " + std::to_string(s * 0.1 * (j - 1)) + "\n";
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) {
+        const int a = 1 + i + 3 * j, b = a + 1, c = a + 3, d = c + 1;
+        text += "f " + std::to_string(a) + " " + std::to_string(c) + " " + std::to_string(b) + "\nf " +
+                std::to_string(b) + " " + std::to_string(c) + " " + std::to_string(d) + "\n";
+      }
+    return text;
+  };
+  write_text(dir / "sheet.obj", grid(1));
+  write_text(dir / "rest.obj", grid(0.8));
+  std::string xml = needle_scene("auto_limit_travel_mesh", "auto");
+  const std::string from = R"(<cloth name="sheet" grid="3 3" size="0.2 0.2">)";
+  xml.replace(xml.find(from), from.size(),
+              "<cloth name=\"sheet\" obj=\"" + (dir / "sheet.obj").string() + "\" rest=\"" + (dir / "rest.obj").string() +
+                  "\" maxStrain=\"0.1\"><stiffness value=\"1\"/>");
+  // Without the needle, one step of the sheet: the strain limit alone moves a particle by more than a quarter
+  // thickness (the figure the old rule counted as travel).
+  std::string alone = xml;
+  alone.erase(alone.find("<static"), alone.find("</scene>") - alone.find("<static"));
+  const BuiltScene a = load_auto("auto_limit_travel_alone", alone);
+  State a1 = a.state;
+  Workspace aws = make_workspace(a.model, a.options);
+  step(a.model, a.options, a.state, a1, aws, a.options.dt);
+  Real limited = 0;
+  for (Index i = 0; i < a.model.particle_count; ++i) limited = std::max(limited, (a1.x[i] - a.state.x[i]).norm());
+  const Real quarter = FrameStepper::travel_fraction * 0.04;
+  CHECK(limited > quarter);
+
+  const BuiltScene b = load_auto("auto_limit_travel", xml);
+  State state = b.state, scratch = state;
+  Workspace ws = make_workspace(b.model, b.options);
+  const StepResult one = step(b.model, b.options, state, scratch, ws, b.options.dt);
+  MESSAGE("moved by the strain limit " << limited << " m, travel " << one.travel << " m, strain before collide "
+                                       << one.strain_before_collide << ", after " << max_spring_strain(b.model, scratch.x));
+  CHECK(one.travel < quarter);
+  CHECK(one.strain_before_collide == doctest::Approx(0.1).epsilon(0.01));
+  FrameStepper stepper(b.model, b.options, b.state);
+  FrameSteps r;
+  state = b.state;
+  ws = make_workspace(b.model, b.options);
+  REQUIRE(stepper.advance_frame(b.model, b.options, state, scratch, ws, r));
+  CHECK(r.rejected == 0);
+  REQUIRE(r.failed == 1);
+  CHECK(r.first_failure.step == doctest::Approx(b.options.dt));
+  CHECK(r.first_failure.strain_after > r.first_failure.strain_before + FrameStepper::strain_jump);
+}
+
+TEST_CASE("auto: a collide-stage jump that moving colliders still make at minTimestep is kept, not a stop") {
+  // The moving needle of the test above with minTimestep 6 ms: the 10 ms step may not halve, and its jump is the
+  // collide stage's (the strain before it stays 0), so it is kept and reported at 10 ms where the run used to stop.
+  const auto dir = scratch_dir("auto_floor");
+  std::string xml = needle_scene("auto_floor_mesh", "auto", true);
+  const std::string from = R"(timestep="auto")";
+  xml.replace(xml.find(from), from.size(), R"(timestep="auto" minTimestep="0.006")");
+  write_text(dir / "scene.xml", xml);
+  const auto sc = load_collision_scene(dir / "scene.xml");
+  int frames = 0;
+  run_frames(sc, [&](int f, const Model&, const State& state, const Workspace&, const sim::FrameReport& r) {
+    if (f == sc.built.options.start_frame) return;
+    ++frames;
+    CHECK(state.time == doctest::Approx(0.01));
+    CHECK(r.steps.rejected == 0);
+    CHECK(r.steps.taken == 1);
+    REQUIRE(r.steps.failed == 1);
+    CHECK(r.steps.first_failure.verdict == StepVerdict::strain_jump);
+    CHECK(r.steps.first_failure.step == doctest::Approx(0.01));
+    CHECK(r.steps.first_failure.strain_before == doctest::Approx(0).epsilon(1e-12));
+    CHECK(r.steps.first_failure.strain_after > FrameStepper::strain_jump);
   });
   CHECK(frames == 1);
 }
