@@ -82,6 +82,17 @@ void FrameStepper::fixed_frame(const Model& m, const SimOptions& o, State& state
   }
 }
 
+bool FrameStepper::jump_stays_at_floor(const Model& m, const SimOptions& o, const State& start, Workspace& ws,
+                                       const StepResult& result, Real strain, Real jump, FrameSteps& report) {
+  if (!(result.strain_before_collide >= 0 && result.strain_before_collide <= strain + strain_jump)) return false;
+  if (probe_.x.size() != start.x.size()) probe_ = start;
+  const StepResult probe = step(m, o, start, probe_, ws, o.min_dt);
+  record(report, probe, o.integrator);
+  ++report.rejected;
+  if (probe.failed || !state_is_finite(probe_) || probe.strain_before_collide > strain + strain_jump) return false;
+  return max_spring_strain(m, probe_.x) - strain >= floor_keep_ratio * jump;
+}
+
 bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& state, State& scratch, Workspace& ws,
                                  FrameSteps& report) {
   report = {};
@@ -101,15 +112,16 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
     StepVerdict verdict = StepVerdict::none;
     Real strain_after = strain;
     // A strain jump that the collide stage made in a step where neither a collider nor the cloth moved by more
-    // than a quarter of the thickness, or that it still makes at minTimestep: a smaller step would not push the
-    // cloth much less, so it goes on to the energy check and, passing it, is kept and reported as a fixed step's
-    // is; the step grows back at the next aligned point.
+    // than a quarter of the thickness, or that it still makes at minTimestep (the step itself there, or its
+    // probe): a smaller step would not push the cloth much less, so it goes on to the energy check and, passing
+    // it, is kept and reported as a fixed step's is; the step grows back at the next aligned point.
     bool kept = false;
     const bool at_floor = 0.5 * h < o.min_dt || level_ >= max_level;
     if (result.failed) verdict = failure_verdict(result, false);
     else if (!state_is_finite(scratch)) verdict = StepVerdict::non_finite;
     else if ((strain_after = max_spring_strain(m, scratch.x)) > strain + strain_jump &&
-             !(kept = collide_stage_jump(m, result, strain, at_floor)))
+             !(kept = collide_stage_jump(m, result, strain, at_floor) ||
+                      jump_stays_at_floor(m, o, state, ws, result, strain, strain_after - strain, report)))
       verdict = StepVerdict::strain_jump;
     else if (!(energy_rise(m, scratch) <= energy_bound_)) verdict = StepVerdict::energy_jump;
     kept = kept && verdict == StepVerdict::none;

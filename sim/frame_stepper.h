@@ -61,6 +61,10 @@ class FrameStepper {
   // of the thickness in the step: a smaller step then would not push much less (docs/stability.md, "Automatic
   // steps").
   static constexpr Real travel_fraction = 0.25;
+  // Otherwise the step is tried once more at minTimestep from the same start (a probe, counted as a rejected step):
+  // when that step still makes at least this fraction of the jump in its collide stage, the jump does not come
+  // from motion over the step, and the full step is kept and reported instead of being halved ten times.
+  static constexpr Real floor_keep_ratio = 0.5;
   static constexpr int grow_after = 16;
 
   // start: the scene's initial state (energies are measured from it, as the run's divergence guard does).
@@ -81,6 +85,11 @@ class FrameStepper {
  private:
   void fixed_frame(const Model& model, const SimOptions& options, State& state, State& scratch, Workspace& ws,
                    FrameSteps& report);
+  // The probe of floor_keep_ratio: whether a collide-stage jump of `jump` from `start` (largest strain `strain`)
+  // is still made, by that fraction at least, by a step of options.min_dt.
+  bool jump_stays_at_floor(const Model& model, const SimOptions& options, const State& start, Workspace& ws,
+                           const StepResult& result, Real strain, Real jump, FrameSteps& report);
+  State probe_;  // the probe step's end; allocated at the first probe
   std::vector<Vec3> x_start_;
   Real energy_start_ = 0, energy_bound_ = 0;
   int level_ = 0;  // step = options.dt / 2^level

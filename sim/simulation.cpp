@@ -49,10 +49,10 @@ std::string describe_failure(const SimOptions& opt, const StepFailure& f, int fr
     std::snprintf(text, sizeof text, "frame %d: a Newton correction raised the backward-Euler residual: take a "
                   "smaller timestep", frame);
   else if (f.verdict == StepVerdict::strain_jump && opt.auto_step)
-    // Kept by timestep="auto": the collide stage's pushes, with everything nearly still or at minTimestep
+    // Kept by timestep="auto": the collide stage's pushes, with everything nearly still or as large at minTimestep
     // (collide_stage_jump).
     std::snprintf(text, sizeof text, "frame %d: the largest spring strain went from %.3g to %.3g in the collision "
-                  "stage of one step of %.3g s, with colliders and cloth nearly still or the step at minTimestep, so "
+                  "stage of one step of %.3g s, with colliders and cloth nearly still or as large at minTimestep, so "
                   "a smaller step would not help: cloth caught between surfaces closer than two thicknesses, or a "
                   "collider through it; a smaller thickness may help", frame, f.strain_before, f.strain_after,
                   f.step);
