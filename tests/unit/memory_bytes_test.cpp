@@ -103,7 +103,7 @@ TEST_CASE("the multigrid levels of an 8 x 8 grid hold their hand-counted bytes")
     return 4 * (nf + (n + 1) + nf + 2 * e + (n + 1) + 4 * e + (e + 1) + sources + (first ? n + 1 : 0)) +
            3 * 48 * n + 48 * e + 3 * 24 * n;
   };
-  const double dense = 8 * (12 * 12 + 12);  // the coarsest level's 3n x 3n matrix and right-hand side
+  const double dense = 8 * (2 * 12 * 12 + 12);  // the coarsest level's 3n x 3n matrix, its factor, right-hand side
   CHECK(multigrid_bytes(mg) == std::size_t(level(64, 16, 42, 210, true) + level(16, 4, 6, 18, false) + dense));
   // The workspace adds the cycle's output z (24 bytes a particle) to the implicit scratch.
   SceneDesc s = test::grid_scene(8, 8, 1.0, Integrator::implicit);
