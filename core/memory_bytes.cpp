@@ -35,9 +35,9 @@ std::size_t state_bytes(const State& s) { return sum_bytes(s.x, s.v, s.contact);
 std::size_t multigrid_bytes(const Multigrid& mg) {
   std::size_t total = std::size_t(mg.dense.size() + mg.dense_factor.size() + mg.dense_rhs.size()) * sizeof(Real);
   for (const MultigridLevel& l : mg.levels)
-    total += sum_bytes(l.parent, l.member_offset, l.member_index, l.edge_a, l.edge_b, l.row_offset, l.row_col,
-                       l.row_edge, l.source_offset, l.source_index, l.ground_offset, l.ground_index, l.ground,
-                       l.edge_block, l.diag, l.diag_inv, l.b, l.x, l.t);
+    total += sum_bytes(l.parent, l.member_offset, l.member_index, l.row_offset, l.row_col, l.row_edge,
+                       l.source_offset, l.source_index, l.ground_offset, l.ground_index, l.edge_block, l.diag,
+                       l.diag_inv, l.b, l.x, l.t);
   return total;
 }
 
