@@ -64,8 +64,9 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
 
 // Preconditioned CG (Shewchuk 1994, B2) from y = 0, stopping at |r| <= tol |b|. The preconditioner z = B r is
 // block-Jacobi, applied per particle where needed (z is not stored), or the multigrid cycle or the Cholesky
-// solve into ws.cg_z. Filtered, every search direction and product is projected as Baraff & Witkin's modified
-// PCG does (S B S as the preconditioner); r arrives filtered.
+// solve into ws.cg_q: q = A p is spent once r is updated, and z once it has made the next p, before the next
+// product (one particle vector less). Filtered, every search direction and product is projected as Baraff &
+// Witkin's modified PCG does (S B S as the preconditioner); r arrives filtered.
 template <Preconditioner Kind>
 CgResult run_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3> x, Workspace& ws, Real h,
                 ImplicitLayout layout, CgStart from) {
@@ -75,7 +76,7 @@ CgResult run_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3> 
     else apply_cholesky(m, ws, r_in, z_out);
   };
   const Index n = m.particle_count;
-  auto &y = ws.cg_x, &r = ws.cg_r, &p = ws.cg_p, &q = ws.cg_q, &z = ws.cg_z;
+  auto &y = ws.cg_x, &r = ws.cg_r, &p = ws.cg_p, &q = ws.cg_q, &z = ws.cg_q;
   const auto& precond = ws.cg_precond;
   auto z_at = [&](Index i) -> Vec3 {
     if constexpr (cycle) return z[i];

@@ -170,7 +170,7 @@ void apply_multigrid(const Model& m, std::span<const Vec3> x, Real h, ImplicitLa
                      std::span<const Vec3> r, std::span<Vec3> z) {
   with_layout(layout, [&](auto l) {
     Cycle<FineLevel<l()>> cycle{{m, x, h, ws}, ws.multigrid};
-    cycle.run(0, r, z, ws.cg_q, true);
+    cycle.run(0, r, z, ws.f, true);
   });
 }
 
