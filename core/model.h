@@ -161,7 +161,7 @@ struct Workspace {
   std::vector<Real> stitch_rest, stitch_pull;  // each stitch's thread length and its shortening speed for the step
                                                // (stitch_count; systems/stitch_forces.h)
   // implicit integrator scratch (particle_count / spring_count, or 0 for other integrators)
-  std::vector<Vec3> dv;  // the step's velocity change (particle_count)
+  std::vector<Vec3> dv;  // the step's velocity change, summed over Newton solves (0 with one solve: it is cg_x)
   std::vector<Vec3> cg_x, cg_r, cg_p, cg_q;  // CG solution, residual, search; A p, then the preconditioner's z = B r
   std::vector<Sym3> cg_precond;    // inverse of the system's diagonal 3x3 block, 0 for pinned (particle_count)
   std::vector<Sym3> spring_block;  // h kd n n^T + h^2 dfa/dxb of each spring, symmetric (spring_count)
