@@ -134,9 +134,25 @@ double implicit_sheet_bytes_per_particle(int n) {
   // velocity change apart from the solution with one Newton solve, no RK4 stages.
   CHECK(workspace_bytes(ws) - multigrid_bytes(ws.multigrid) ==
         std::size_t(6 * 24 * p + 48 * p + 48 * double(b.model.spring_count)));
+  // The levels' share by kind of array (docs/performance.md, "Implicit integration", lists them).
+  auto bytes = [](const auto&... v) { return double(((v.capacity() * sizeof(v[0])) + ...)); };
+  double edge_blocks = 0, diagonals = 0, sources = 0, rows = 0, vectors = 0, members = 0;
+  for (const MultigridLevel& l : ws.multigrid.levels) {
+    edge_blocks += bytes(l.edge_block);
+    diagonals += bytes(l.diag, l.diag_inv);
+    sources += bytes(l.source_offset, l.source_index, l.ground_offset, l.ground_index);
+    rows += bytes(l.row_offset, l.row_col, l.row_edge);
+    vectors += bytes(l.b, l.x, l.t);
+    members += bytes(l.parent, l.member_offset, l.member_index);
+  }
+  const double dense =
+      double(multigrid_bytes(ws.multigrid)) - edge_blocks - diagonals - sources - rows - vectors - members;
   MESSAGE(n << "^2 sheet, implicit with the multigrid: " << double(workspace_bytes(ws)) / p
             << " B a particle: spring blocks " << 48.0 * b.model.spring_count / p << ", block-Jacobi inverses 48, "
-            << "CG vectors 96, forces and normals 48, multigrid levels " << double(multigrid_bytes(ws.multigrid)) / p);
+            << "CG vectors 96, forces and normals 48, multigrid levels " << double(multigrid_bytes(ws.multigrid)) / p
+            << " (edge blocks " << edge_blocks / p << ", D and D^-1 " << diagonals / p << ", sources and ground "
+            << sources / p << ", rows " << rows / p << ", cycle vectors " << vectors / p << ", parents and members "
+            << members / p << ", coarsest dense " << dense / p << ")");
   return double(workspace_bytes(ws)) / p;
 }
 
