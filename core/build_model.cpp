@@ -281,19 +281,14 @@ Workspace make_workspace(const Model& model, const SimOptions& options) {
   ws.stitch_rest.assign(model.stitch_count, 0);
   ws.stitch_pull.assign(model.stitch_count, 0);
   if (options.integrator == Integrator::implicit) {
-    for (auto* buf : {&ws.dv, &ws.cg_x, &ws.cg_r, &ws.cg_p, &ws.cg_q}) buf->assign(model.particle_count, Vec3::Zero());
+    for (auto* buf : {&ws.cg_x, &ws.cg_r, &ws.cg_p, &ws.cg_q}) buf->assign(model.particle_count, Vec3::Zero());
+    if (options.solver.newton_iterations > 1) ws.dv.assign(model.particle_count, Vec3::Zero());
     ws.cg_precond.assign(model.particle_count, Sym3{});
     ws.spring_block.assign(model.spring_count, Sym3{});
     ws.stitch_kx.assign(model.stitch_count, Sym3{});
     ws.stitch_block.assign(model.stitch_count, Sym3{});
-    if (options.solver.preconditioner == Preconditioner::multigrid) {
-      ws.cg_z.assign(model.particle_count, Vec3::Zero());
-      ws.multigrid = build_multigrid_levels(model);
-    }
-    if (options.solver.preconditioner == Preconditioner::cholesky) {
-      ws.cg_z.assign(model.particle_count, Vec3::Zero());
-      ws.cholesky = build_cholesky_factor(model);
-    }
+    if (options.solver.preconditioner == Preconditioner::multigrid) ws.multigrid = build_multigrid_levels(model);
+    if (options.solver.preconditioner == Preconditioner::cholesky) ws.cholesky = build_cholesky_factor(model);
   }
   make_collision_workspace(model, ws.collision);
   if (options.integrator == Integrator::implicit && options.solver.contact_filter && model.collision.enabled &&

@@ -33,17 +33,17 @@ std::size_t model_bytes(const Model& m) {
 std::size_t state_bytes(const State& s) { return sum_bytes(s.x, s.v, s.contact); }
 
 std::size_t multigrid_bytes(const Multigrid& mg) {
-  std::size_t total = std::size_t(mg.dense.size() + mg.dense_rhs.size()) * sizeof(Real);
+  std::size_t total = std::size_t(mg.dense.size() + mg.dense_factor.size() + mg.dense_rhs.size()) * sizeof(Real);
   for (const MultigridLevel& l : mg.levels)
-    total += sum_bytes(l.parent, l.member_offset, l.member_index, l.edge_a, l.edge_b, l.row_offset, l.row_col,
-                       l.row_edge, l.source_offset, l.source_index, l.ground_offset, l.ground_index, l.ground,
-                       l.edge_block, l.diag, l.diag_inv, l.b, l.x, l.t);
+    total += sum_bytes(l.parent, l.member_offset, l.member_index, l.row_offset, l.row_col, l.row_edge,
+                       l.source_offset, l.source_index, l.ground_offset, l.ground_index, l.edge_block, l.diag,
+                       l.diag_inv, l.b, l.x, l.t);
   return total;
 }
 
 std::size_t workspace_bytes(const Workspace& ws) {
-  return sum_bytes(ws.f, ws.stage_x, ws.stage_v, ws.normal, ws.dv, ws.cg_x, ws.cg_r, ws.cg_p,
-                   ws.cg_q, ws.cg_precond, ws.spring_block, ws.cg_z) +
+  return sum_bytes(ws.f, ws.stage_x, ws.stage_v, ws.normal, ws.stitch_rest, ws.stitch_pull, ws.dv, ws.cg_x, ws.cg_r,
+                   ws.cg_p, ws.cg_q, ws.cg_precond, ws.spring_block, ws.stitch_kx, ws.stitch_block) +
          multigrid_bytes(ws.multigrid) + (ws.cholesky ? cholesky_bytes(*ws.cholesky) : 0);
 }
 

@@ -153,19 +153,20 @@ struct State {
 };
 
 struct Workspace {
-  std::vector<Vec3> f;             // accumulated force, then acceleration (particle_count)
+  // accumulated force, then acceleration (particle_count); the implicit step's multigrid cycle takes it as scratch
+  // once the right-hand side has read it (systems/multigrid.h)
+  std::vector<Vec3> f;
   std::vector<Vec3> stage_x, stage_v;  // RK4 stage state (particle_count, or 0 for other integrators)
   std::vector<Vec3> normal;        // unit vertex normals for wind and output (particle_count)
   std::vector<Real> stitch_rest, stitch_pull;  // each stitch's thread length and its shortening speed for the step
                                                // (stitch_count; systems/stitch_forces.h)
   // implicit integrator scratch (particle_count / spring_count, or 0 for other integrators)
-  std::vector<Vec3> dv, cg_x, cg_r, cg_p, cg_q;  // velocity change; CG solution, residual, search, A p
+  std::vector<Vec3> dv;  // the step's velocity change, summed over Newton solves (0 with one solve: it is cg_x)
+  std::vector<Vec3> cg_x, cg_r, cg_p, cg_q;  // CG solution, residual, search; A p, then the preconditioner's z = B r
   std::vector<Sym3> cg_precond;    // inverse of the system's diagonal 3x3 block, 0 for pinned (particle_count)
   std::vector<Sym3> spring_block;  // h kd n n^T + h^2 dfa/dxb of each spring, symmetric (spring_count)
   std::vector<Sym3> stitch_kx, stitch_block;  // each stitch's -df/dg and h Kv + h^2 Kx (stitch_count)
-  // multigrid preconditioner: its output z = B r (particle_count, or 0 without it) and its levels
-  std::vector<Vec3> cg_z;
-  Multigrid multigrid;
+  Multigrid multigrid;  // the multigrid preconditioner's levels (empty without it)
   // sparse Cholesky preconditioner (core/cholesky_factor.h; null without it): refactored when the step changes or
   // a solve does not converge in a few CG iterations with the factor it has (systems/cholesky_preconditioner.h)
   CholeskyFactorPtr cholesky;

@@ -116,22 +116,22 @@ std::vector<Real> merged_weights(const MergedEdges& m, const std::vector<Real>& 
   return w;
 }
 
-// The rows of a level's operator: each node's neighbours across its edges, in edge order.
-void build_rows(MultigridLevel& level) {
+// The rows of a level's operator: each node's neighbours across its edges (ends a, b), in edge order.
+void build_rows(MultigridLevel& level, const std::vector<Index>& a, const std::vector<Index>& b) {
   level.row_offset.assign(std::size_t(level.node_count) + 1, 0);
   for (Index e = 0; e < level.edge_count; ++e) {
-    ++level.row_offset[level.edge_a[e] + 1];
-    ++level.row_offset[level.edge_b[e] + 1];
+    ++level.row_offset[a[e] + 1];
+    ++level.row_offset[b[e] + 1];
   }
   std::partial_sum(level.row_offset.begin(), level.row_offset.end(), level.row_offset.begin());
   level.row_col.resize(2 * std::size_t(level.edge_count));
   level.row_edge.resize(2 * std::size_t(level.edge_count));
   std::vector<Index> fill(level.row_offset.begin(), level.row_offset.end() - 1);
   for (Index e = 0; e < level.edge_count; ++e) {
-    const Index a = fill[level.edge_a[e]]++, b = fill[level.edge_b[e]]++;
-    level.row_col[a] = level.edge_b[e];
-    level.row_col[b] = level.edge_a[e];
-    level.row_edge[a] = level.row_edge[b] = e;
+    const Index ka = fill[a[e]]++, kb = fill[b[e]]++;
+    level.row_col[ka] = b[e];
+    level.row_col[kb] = a[e];
+    level.row_edge[ka] = level.row_edge[kb] = e;
   }
 }
 
@@ -186,8 +186,11 @@ Multigrid build_multigrid_levels(const Model& m, Index coarsest_nodes) {
     for (Index i = 0; i < finer_nodes; ++i) level.parent[i] = first[i] < 0 ? -1 : second[first[i]];
     MergedEdges edges = merge_edges(finer_a, finer_b, level.parent, quads);
     level.edge_count = Index(edges.a.size());
-    level.edge_a = std::move(edges.a);
-    level.edge_b = std::move(edges.b);
+    // The cycle reads the edges through the rows; their two ends are kept only to build the next level.
+    build_rows(level, edges.a, edges.b);
+    finer_w = merged_weights(edges, finer_w);
+    finer_a = std::move(edges.a);
+    finer_b = std::move(edges.b);
     level.source_offset = std::move(edges.source_offset);
     level.source_index = std::move(edges.source_index);
     if (mg.levels.empty()) {  // only the springs to pinned particles ground a node
@@ -195,18 +198,13 @@ Multigrid build_multigrid_levels(const Model& m, Index coarsest_nodes) {
       level.ground_index = std::move(edges.ground_index);
     }
     // Held for the whole run: no spare capacity from push_back growth.
-    for (auto* v : {&level.edge_a, &level.edge_b, &level.source_offset, &level.source_index}) v->shrink_to_fit();
-    build_rows(level);
+    for (auto* v : {&level.source_offset, &level.source_index}) v->shrink_to_fit();
     build_members(level);
-    for (auto* v : {&level.ground, &level.diag, &level.diag_inv}) v->assign(std::size_t(quads), Sym3{});
+    for (auto* v : {&level.diag, &level.diag_inv}) v->assign(std::size_t(quads), Sym3{});
     level.edge_block.assign(std::size_t(level.edge_count), Sym3{});
     for (auto* v : {&level.b, &level.x, &level.t}) v->assign(std::size_t(quads), Vec3::Zero());
 
     // This level is the next one's finer level.
-    MergedEdges weights_of{level.edge_a, level.edge_b, level.source_offset, level.source_index, {}, {}};
-    finer_w = merged_weights(weights_of, finer_w);
-    finer_a = level.edge_a;
-    finer_b = level.edge_b;
     finer_nodes = free_count = quads;
     identity.resize(std::size_t(quads));
     std::iota(identity.begin(), identity.end(), 0);

@@ -29,9 +29,9 @@ struct MultigridLevel {
   std::vector<Index> parent;         // aggregate of each finer node, -1 for a pinned particle (finer node count)
   std::vector<Index> member_offset;  // finer nodes of each aggregate, in index order (node_count + 1)
   std::vector<Index> member_index;   // (finer nodes with a parent)
-  std::vector<Index> edge_a, edge_b;  // the two aggregates, edge_a < edge_b (edge_count)
   // The operator's rows: for each node, its neighbours across its edges and those edges, in edge order
-  // (row_offset: node_count + 1; row_col, row_edge: 2 * edge_count)
+  // (row_offset: node_count + 1; row_col, row_edge: 2 * edge_count). An edge joins two distinct aggregates, each
+  // pair once, and is numbered by (lower aggregate, higher aggregate); the rows are all that stores its ends.
   std::vector<Index> row_offset, row_col, row_edge;
   std::vector<Index> source_offset;     // finer edges summed into each edge, in index order (edge_count + 1)
   std::vector<Index> source_index;      // (finer edges joining two aggregates)
@@ -40,9 +40,10 @@ struct MultigridLevel {
   std::vector<Index> ground_offset, ground_index;
 
   // Numeric blocks, recomputed each step (systems/multigrid.cpp).
-  std::vector<Sym3> ground;      // the node's block outside its edges, G (node_count)
   std::vector<Sym3> edge_block;  // B of each edge (edge_count)
-  std::vector<Sym3> diag;        // the node's diagonal block, G + the sum of its edges' B (node_count)
+  // The node's diagonal block, G + the sum of its edges' B (node_count). While the step's blocks are built it
+  // holds G, the node's block outside its edges, which the next level's G sums: no array of its own for G.
+  std::vector<Sym3> diag;
   std::vector<Sym3> diag_inv;    // its inverse (node_count)
   std::vector<Vec3> b, x, t;     // the cycle's right-hand side, result and scratch on this level (node_count)
 };

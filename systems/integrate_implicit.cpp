@@ -64,8 +64,9 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
 
 // Preconditioned CG (Shewchuk 1994, B2) from y = 0, stopping at |r| <= tol |b|. The preconditioner z = B r is
 // block-Jacobi, applied per particle where needed (z is not stored), or the multigrid cycle or the Cholesky
-// solve into ws.cg_z. Filtered, every search direction and product is projected as Baraff & Witkin's modified
-// PCG does (S B S as the preconditioner); r arrives filtered.
+// solve into ws.cg_q: q = A p is spent once r is updated, and z once it has made the next p, before the next
+// product (one particle vector less). Filtered, every search direction and product is projected as Baraff &
+// Witkin's modified PCG does (S B S as the preconditioner); r arrives filtered.
 template <Preconditioner Kind>
 CgResult run_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3> x, Workspace& ws, Real h,
                 ImplicitLayout layout, CgStart from) {
@@ -75,7 +76,7 @@ CgResult run_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3> 
     else apply_cholesky(m, ws, r_in, z_out);
   };
   const Index n = m.particle_count;
-  auto &y = ws.cg_x, &r = ws.cg_r, &p = ws.cg_p, &q = ws.cg_q, &z = ws.cg_z;
+  auto &y = ws.cg_x, &r = ws.cg_r, &p = ws.cg_p, &q = ws.cg_q, &z = ws.cg_q;
   const auto& precond = ws.cg_precond;
   auto z_at = [&](Index i) -> Vec3 {
     if constexpr (cycle) return z[i];
@@ -161,6 +162,10 @@ CgResult solve_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3
 StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const State& in, State& out, Workspace& ws,
                               Real h, ImplicitLayout layout) {
   const Index n = m.particle_count;
+  // The step's velocity change. With one solve it is that solve's y itself: 0 + y is y bit for bit, since CG
+  // builds y from +0 by additions alone and so never makes -0. Newton corrections add into ws.dv.
+  const bool one_solve = opt.newton_iterations == 1;
+  std::span<Vec3> dv = one_solve ? std::span<Vec3>(ws.cg_x) : std::span<Vec3>(ws.dv);
   StepResult result;
   SolveRecord& record = result.solve;
   Real last_residual = 0;  // |b| of the previous Newton correction's right-hand side (the backward-Euler residual)
@@ -173,7 +178,7 @@ StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const St
     result.counts.add(eval_forces(m, x, v, in.time, ws));
     build_spring_blocks(m, x, h, ws);
     if (m.stitch_count > 0) build_stitch_blocks(m, x, v, h, ws);
-    if (first) parallel_over(n, particle_grain, [&](Index i) { ws.dv[i] = Vec3::Zero(); });
+    if (first && !one_solve) parallel_over(n, particle_grain, [&](Index i) { dv[i] = Vec3::Zero(); });
     build_particle_terms(m, x, v, h, first, ws);
     if (!first) {
       const Real residual = std::sqrt(
@@ -191,8 +196,8 @@ StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const St
     record.cg_residual = cg.residual;
     if (!(cg.residual <= opt.cg_tolerance)) record.converged = false;
     parallel_over(n, particle_grain, [&](Index i) {
-      ws.dv[i] += ws.cg_x[i];
-      out.v[i] = in.v[i] + ws.dv[i];
+      if (!one_solve) dv[i] += ws.cg_x[i];
+      out.v[i] = in.v[i] + dv[i];
       out.x[i] = in.x[i] + h * out.v[i];
     });
   }

@@ -118,10 +118,10 @@ Sym3 sum_blocks(const std::vector<Index>& offset, const std::vector<Index>& inde
 
 void build_multigrid_operators(const Model& m, Real h, Workspace& ws) {
   Multigrid& mg = ws.multigrid;
+  // Each level's G, into its diag: a coarser level's G sums the finer level's, so every G is formed before any
+  // diag is finished below (the same sums in the same order as with an array of G apart).
   for (std::size_t l = 0; l < mg.levels.size(); ++l) {
     MultigridLevel& L = mg.levels[l];
-    // The finer level's G and edge blocks: the particles' blocks and the springs' on the first level.
-    const std::vector<Sym3>& finer_edges = l == 0 ? ws.spring_block : mg.levels[l - 1].edge_block;
     for_nodes(L.node_count, [&](Index n) {
       if (l == 0) {
         // An aggregate of particles: their blocks outside the springs, and their springs to pinned particles.
@@ -133,16 +133,21 @@ void build_multigrid_operators(const Model& m, Real h, Workspace& ws) {
           // taking a sewn panel as free to move (systems/stitch_forces.h).
           if (m.stitch_count > 0) g += stitch_diagonal(m, ws, i).full();
         }
-        L.ground[n] = Sym3::from(g);
-        L.ground[n] += sum_blocks(L.ground_offset, L.ground_index, ws.spring_block, n);
+        L.diag[n] = Sym3::from(g);
+        L.diag[n] += sum_blocks(L.ground_offset, L.ground_index, ws.spring_block, n);
       } else {
-        L.ground[n] = sum_blocks(L.member_offset, L.member_index, mg.levels[l - 1].ground, n);
+        L.diag[n] = sum_blocks(L.member_offset, L.member_index, mg.levels[l - 1].diag, n);
       }
     });
+  }
+  for (std::size_t l = 0; l < mg.levels.size(); ++l) {
+    MultigridLevel& L = mg.levels[l];
+    // The finer level's edge blocks: the springs' on the first level.
+    const std::vector<Sym3>& finer_edges = l == 0 ? ws.spring_block : mg.levels[l - 1].edge_block;
     for_nodes(L.edge_count,
               [&](Index e) { L.edge_block[e] = sum_blocks(L.source_offset, L.source_index, finer_edges, e); });
     for_nodes(L.node_count, [&](Index n) {
-      Sym3 d = L.ground[n];
+      Sym3 d = L.diag[n];
       for (Index k = L.row_offset[n]; k < L.row_offset[n + 1]; ++k) d += L.edge_block[L.row_edge[k]];
       L.diag[n] = d;
       L.diag_inv[n] = Sym3::from(d.full().inverse());
@@ -165,7 +170,7 @@ void apply_multigrid(const Model& m, std::span<const Vec3> x, Real h, ImplicitLa
                      std::span<const Vec3> r, std::span<Vec3> z) {
   with_layout(layout, [&](auto l) {
     Cycle<FineLevel<l()>> cycle{{m, x, h, ws}, ws.multigrid};
-    cycle.run(0, r, z, ws.cg_q, true);
+    cycle.run(0, r, z, ws.f, true);
   });
 }
 

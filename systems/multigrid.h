@@ -28,7 +28,8 @@ namespace clothsim {
 // Needs ws.spring_block and (for the finest smoother) ws.cg_precond current.
 void build_multigrid_operators(const Model& model, Real h, Workspace& ws);
 
-// z = B r, one cycle from zero; r and z are particle vectors (zero on pinned particles). Uses ws.cg_q as scratch.
+// z = B r, one cycle from zero; r and z are particle vectors (zero on pinned particles). Uses ws.f as scratch: the
+// solve runs after the right-hand side has consumed the forces, and the next force stage overwrites them.
 void apply_multigrid(const Model& model, std::span<const Vec3> x, Real h, ImplicitLayout layout, Workspace& ws,
                      std::span<const Vec3> r, std::span<Vec3> z);
 

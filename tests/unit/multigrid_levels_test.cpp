@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <set>
+#include <vector>
 
 #include "core/multigrid_levels.h"
 #include "tests/support/scene_fixtures.h"
@@ -52,13 +53,17 @@ TEST_CASE("pinned particles belong to no aggregate, their springs ground the agg
       CHECK(size <= 4);
       for (Index k = L.member_offset[n]; k < L.member_offset[n + 1]; ++k) CHECK(L.parent[L.member_index[k]] == n);
     }
-    // Edges join distinct aggregates, once per pair.
+    // Edges join distinct aggregates, once per pair, and each is in the rows of both its ends.
     std::set<std::pair<Index, Index>> pairs;
-    for (Index e = 0; e < L.edge_count; ++e) {
-      CHECK(L.edge_a[e] < L.edge_b[e]);
-      pairs.insert({L.edge_a[e], L.edge_b[e]});
-    }
+    std::vector<int> rows_of(std::size_t(L.edge_count), 0);
+    for (Index n = 0; n < L.node_count; ++n)
+      for (Index k = L.row_offset[n]; k < L.row_offset[n + 1]; ++k) {
+        CHECK(L.row_col[k] != n);
+        ++rows_of[L.row_edge[k]];
+        if (n < L.row_col[k]) pairs.insert({n, L.row_col[k]});
+      }
     CHECK(Index(pairs.size()) == L.edge_count);
+    CHECK(std::count(rows_of.begin(), rows_of.end(), 2) == L.edge_count);
     finer = L.node_count;
   }
   const MultigridLevel& first = mg.levels[0];

@@ -47,17 +47,14 @@ SmallSheet small_sheet(int nx, int ny, Index coarsest) {
   return sh;
 }
 
-// A level's operator as a dense matrix: G_I on the diagonal, and each edge's B in [[B, -B], [-B, B]].
+// A level's operator as a dense matrix, as the cycle applies it: D_I on the diagonal, -B of each edge in the rows
+// of both its ends.
 Eigen::MatrixXd level_matrix(const MultigridLevel& L) {
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(3 * L.node_count, 3 * L.node_count);
-  for (Index n = 0; n < L.node_count; ++n) a.block<3, 3>(3 * n, 3 * n) = L.ground[n].full();
-  for (Index e = 0; e < L.edge_count; ++e) {
-    const Index p = 3 * L.edge_a[e], q = 3 * L.edge_b[e];
-    const Mat3 b = L.edge_block[e].full();
-    a.block<3, 3>(p, p) += b;
-    a.block<3, 3>(q, q) += b;
-    a.block<3, 3>(p, q) -= b;
-    a.block<3, 3>(q, p) -= b;
+  for (Index n = 0; n < L.node_count; ++n) {
+    a.block<3, 3>(3 * n, 3 * n) = L.diag[n].full();
+    for (Index k = L.row_offset[n]; k < L.row_offset[n + 1]; ++k)
+      a.block<3, 3>(3 * n, 3 * L.row_col[k]) = -L.edge_block[L.row_edge[k]].full();
   }
   return a;
 }
