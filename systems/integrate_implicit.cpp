@@ -165,6 +165,8 @@ StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const St
   // The step's velocity change. With one solve it is that solve's y itself: 0 + y is y bit for bit, since CG
   // builds y from +0 by additions alone and so never makes -0. Newton corrections add into ws.dv.
   const bool one_solve = opt.newton_iterations == 1;
+  // A workspace made for one solve has no dv; stepping it with more Newton iterations grows it here, not out of bounds.
+  if (!one_solve && ws.dv.size() != std::size_t(n)) ws.dv.assign(std::size_t(n), Vec3::Zero());
   std::span<Vec3> dv = one_solve ? std::span<Vec3>(ws.cg_x) : std::span<Vec3>(ws.dv);
   StepResult result;
   SolveRecord& record = result.solve;
