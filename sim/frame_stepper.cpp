@@ -27,8 +27,16 @@ void record(FrameSteps& report, const StepResult& result, Integrator integrator)
 }
 }  // namespace
 
+namespace {
+// Whether a step that started at largest strain strain_before reached the collide stage without a strain jump
+// (measured for timestep="auto" with collisions only), so that any jump it ends with is that stage's.
+bool jump_left_to_collide(const StepResult& result, Real strain_before) {
+  return result.strain_before_collide >= 0 && result.strain_before_collide <= strain_before + FrameStepper::strain_jump;
+}
+}  // namespace
+
 bool collide_stage_jump(const Model& m, const StepResult& result, Real strain_before, bool at_floor) {
-  return result.strain_before_collide >= 0 && result.strain_before_collide <= strain_before + FrameStepper::strain_jump &&
+  return jump_left_to_collide(result, strain_before) &&
          (at_floor || result.travel <= FrameStepper::travel_fraction * m.collision.max_thickness);
 }
 
@@ -84,12 +92,12 @@ void FrameStepper::fixed_frame(const Model& m, const SimOptions& o, State& state
 
 bool FrameStepper::jump_stays_at_floor(const Model& m, const SimOptions& o, const State& start, Workspace& ws,
                                        const StepResult& result, Real strain, Real jump, FrameSteps& report) {
-  if (!(result.strain_before_collide >= 0 && result.strain_before_collide <= strain + strain_jump)) return false;
+  if (!jump_left_to_collide(result, strain)) return false;
   if (probe_.x.size() != start.x.size()) probe_ = start;
   const StepResult probe = step(m, o, start, probe_, ws, o.min_dt);
   record(report, probe, o.integrator);
   ++report.rejected;
-  if (probe.failed || !state_is_finite(probe_) || probe.strain_before_collide > strain + strain_jump) return false;
+  if (probe.failed || !state_is_finite(probe_) || !jump_left_to_collide(probe, strain)) return false;
   return max_spring_strain(m, probe_.x) - strain >= floor_keep_ratio * jump;
 }
 

@@ -1,6 +1,8 @@
 #include "systems/step.h"
 
+#include <algorithm>
 #include <chrono>
+#include <span>
 
 #include "systems/attachments.h"
 #include "systems/collision/collide.h"
@@ -14,6 +16,16 @@
 #include "systems/strain_limit.h"
 
 namespace clothsim {
+namespace {
+
+// The farthest any of the points moved from `from` to `to`, m; the same bytes at any thread count.
+Real largest_move(std::span<const Vec3> from, std::span<const Vec3> to) {
+  return deterministic_reduce(
+      Index(to.size()), particle_grain, Real(0), [&](Index i) { return (to[i] - from[i]).norm(); },
+      [](Real a, Real b) { return std::max(a, b); });
+}
+
+}  // namespace
 
 StepResult step(const Model& model, const SimOptions& options, const State& in, State& out, Workspace& ws, Real h) {
   // A run's first step with the implicit solve's contact filter: find what the cloth already touches, so that the
@@ -46,10 +58,7 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
   // (sim/frame_stepper.h); nothing for a fixed step. The cloth's travel is the integrator's h|v| alone: the stitch
   // and strain limits' corrections do not shrink with the step, and in a pinch they alone would count as motion.
   const bool measure = options.auto_step && model.collision.enabled;
-  const auto farther = [](Real a, Real b) { return std::max(a, b); };
-  if (measure)
-    result.travel = deterministic_reduce(model.particle_count, particle_grain, Real(0),
-                                         [&](Index i) { return (out.x[i] - in.x[i]).norm(); }, farther);
+  if (measure) result.travel = largest_move(in.x, out.x);
   apply_attachments(model, ws.collision, in, out, h);
   if (model.stitch_count > 0) apply_stitch_limit(model, ws.stitch_rest, out, h, in.time + h);
   // Collisions end the step (Bridson et al. 2002 §7): the strain limit's projections move particles without
@@ -65,12 +74,9 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
   if (measure) result.strain_before_collide = max_spring_strain(model, out.x);
   const auto t1 = clock::now();
   const CollideCounts collided = collide(model, in, out, ws, h);
-  if (measure) {  // the colliders' positions over the step, as the collide stage placed them
-    const auto& c0 = ws.collision.collider_x0;
-    const auto& c1 = ws.collision.collider_x1;
-    result.travel = std::max(result.travel, deterministic_reduce(Index(c1.size()), particle_grain, Real(0),
-                                                                 [&](Index v) { return (c1[v] - c0[v]).norm(); }, farther));
-  }
+  // The colliders' positions over the step, as the collide stage placed them.
+  if (measure)
+    result.travel = std::max(result.travel, largest_move(ws.collision.collider_x0, ws.collision.collider_x1));
   const auto t2 = clock::now();
   out.time = in.time + h;
   out.step = in.step + 1;
