@@ -90,15 +90,27 @@ void FrameStepper::fixed_frame(const Model& m, const SimOptions& o, State& state
   }
 }
 
+int FrameStepper::floor_level(const SimOptions& o) {
+  int level = 0;
+  while (level < max_level && std::ldexp(o.dt, -(level + 1)) >= o.min_dt) ++level;
+  return level;
+}
+
 bool FrameStepper::jump_stays_at_floor(const Model& m, const SimOptions& o, const State& start, Workspace& ws,
-                                       const StepResult& result, Real strain, Real jump, FrameSteps& report) {
+                                       const StepResult& result, Real strain, Real jump, FrameSteps& report,
+                                       Real& probe_strain) {
   if (!jump_left_to_collide(result, strain)) return false;
   if (probe_.x.size() != start.x.size()) probe_ = start;
-  const StepResult probe = step(m, o, start, probe_, ws, o.min_dt);
-  record(report, probe, o.integrator);
-  ++report.rejected;
-  if (probe.failed || !state_is_finite(probe_) || !jump_left_to_collide(probe, strain)) return false;
-  return max_spring_strain(m, probe_.x) - strain >= floor_keep_ratio * jump;
+  probe_result_ = step(m, o, start, probe_, ws, std::ldexp(o.dt, -floor_level(o)));
+  record(report, probe_result_, o.integrator);
+  if (probe_result_.failed || !state_is_finite(probe_) || !jump_left_to_collide(probe_result_, strain)) {
+    ++report.rejected;
+    return false;
+  }
+  probe_strain = max_spring_strain(m, probe_.x);
+  const bool repeats = probe_strain - strain >= floor_keep_ratio * jump;
+  if (!repeats) ++report.rejected;
+  return repeats;
 }
 
 bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& state, State& scratch, Workspace& ws,
@@ -110,6 +122,7 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
   }
   level_ = 0;
   easy_ = 0;
+  fast_grow_ = false;
   Real strain = max_spring_strain(m, state.x);
   // Position inside the frame in steps of the current level; the frame ends at steps_per_frame << level.
   std::int64_t pos = 0;
@@ -120,21 +133,25 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
     StepVerdict verdict = StepVerdict::none;
     Real strain_after = strain;
     // A strain jump that the collide stage made in a step where neither a collider nor the cloth moved by more
-    // than a quarter of the thickness, or that it still makes at minTimestep (the step itself there, or its
-    // probe): a smaller step would not push the cloth much less, so it goes on to the energy check and, passing
-    // it, is kept and reported as a fixed step's is; the step grows back at the next aligned point.
-    bool kept = false;
+    // than a quarter of the thickness, or at minTimestep, is kept whole: a smaller step would not push the cloth
+    // much less. One that a probe at the floor step repeats is kept as that probe's step (where halving would
+    // have ended). Either then goes on to the energy check and, passing it, is reported as a fixed step's is; the
+    // step grows back at the next aligned point.
+    bool kept = false, probe_kept = false;
     const bool at_floor = 0.5 * h < o.min_dt || level_ >= max_level;
     if (result.failed) verdict = failure_verdict(result, false);
     else if (!state_is_finite(scratch)) verdict = StepVerdict::non_finite;
-    else if ((strain_after = max_spring_strain(m, scratch.x)) > strain + strain_jump &&
-             !(kept = collide_stage_jump(m, result, strain, at_floor) ||
-                      jump_stays_at_floor(m, o, state, ws, result, strain, strain_after - strain, report)))
-      verdict = StepVerdict::strain_jump;
-    else if (!(energy_rise(m, scratch) <= energy_bound_)) verdict = StepVerdict::energy_jump;
-    kept = kept && verdict == StepVerdict::none;
-    if (kept && report.failed++ == 0)
-      report.first_failure = {StepVerdict::strain_jump, h, strain, strain_after, result.solve};
+    else if ((strain_after = max_spring_strain(m, scratch.x)) > strain + strain_jump) {
+      Real probe_strain = 0;
+      if (collide_stage_jump(m, result, strain, at_floor)) kept = true;
+      else if (jump_stays_at_floor(m, o, state, ws, result, strain, strain_after - strain, report, probe_strain)) {
+        kept = probe_kept = true;
+        strain_after = probe_strain;
+      } else verdict = StepVerdict::strain_jump;
+    }
+    if (verdict == StepVerdict::none && !(energy_rise(m, probe_kept ? probe_ : scratch) <= energy_bound_))
+      verdict = StepVerdict::energy_jump;
+    if (probe_kept) ++report.rejected;  // the whole step, replaced by its probe (or both rejected, below)
     if (verdict != StepVerdict::none) {
       // Rejected: state still holds the step's start, untouched (step wrote into scratch only).
       ++report.rejected;
@@ -143,15 +160,28 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
       ++level_;
       pos *= 2;
       easy_ = 0;
+      fast_grow_ = false;
       continue;
     }
-    std::swap(state, scratch);
+    if (probe_kept) {
+      const int floor = floor_level(o);
+      pos <<= floor - level_;
+      level_ = floor;
+      std::swap(state, probe_);
+    } else {
+      std::swap(state, scratch);
+    }
+    const Real h_taken = current_step(o);
+    if (kept && report.failed++ == 0)
+      report.first_failure = {StepVerdict::strain_jump, h_taken, strain, strain_after,
+                              probe_kept ? probe_result_.solve : result.solve};
     strain = strain_after;
     ++pos;
-    count_accepted(report, h);
-    // Grow back after a run of easy steps, when the doubled step still ends on the frame.
-    if (kept) easy_ = grow_after - 1;
-    if (++easy_ >= grow_after && level_ > 0 && pos % 2 == 0) {
+    count_accepted(report, h_taken);
+    // Grow back after a run of easy steps, when the doubled step still ends on the frame; at each aligned point
+    // after a kept jump, since no failure made the step smaller.
+    if (kept) fast_grow_ = true;
+    if (++easy_ >= (fast_grow_ ? 1 : grow_after) && level_ > 0 && pos % 2 == 0) {
       --level_;
       pos /= 2;
       easy_ = 0;

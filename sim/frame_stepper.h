@@ -46,8 +46,9 @@ struct FrameSteps {
 //
 // A rejection keeps the state the step started from (step writes into scratch only), halves the step and
 // retries; a strain jump that the collide stage made while neither collider nor cloth moved by a quarter of the
-// thickness, or still made at minTimestep (collide_stage_jump), is kept and counted in `failed`, and the step grows
-// back at the next aligned point. After grow_after accepted steps in a row the step doubles again, up to options.dt, when that keeps the
+// thickness, or at minTimestep (collide_stage_jump), is kept and counted in `failed`; one that a probe at the
+// floor step repeats is kept as the probe's step (jump_stays_at_floor); after either the step grows back at
+// every aligned point until a step is rejected. Otherwise, after grow_after accepted steps in a row the step doubles again, up to options.dt, when that keeps the
 // frame's steps aligned. Each frame starts again at options.dt, so a frame's steps depend on its start state
 // alone and a run resumed from a checkpoint takes the same steps. Every decision uses deterministic sums: the
 // steps are the same at any thread count.
@@ -61,9 +62,10 @@ class FrameStepper {
   // of the thickness in the step: a smaller step then would not push much less (docs/stability.md, "Automatic
   // steps").
   static constexpr Real travel_fraction = 0.25;
-  // Otherwise the step is tried once more at minTimestep from the same start (a probe, counted as a rejected step):
-  // when that step still makes at least this fraction of the jump in its collide stage, the jump does not come
-  // from motion over the step, and the full step is kept and reported instead of being halved ten times.
+  // Otherwise the step is tried once more from the same start at the floor step (the smallest dt / 2^k not below
+  // minTimestep: a probe): when that step still makes at least this fraction of the jump in its collide stage,
+  // the jump does not come from motion over the step, and the probe's step is kept and reported: the state ten
+  // halvings would have reached, for the cost of one step.
   static constexpr Real floor_keep_ratio = 0.5;
   static constexpr int grow_after = 16;
 
@@ -86,14 +88,19 @@ class FrameStepper {
   void fixed_frame(const Model& model, const SimOptions& options, State& state, State& scratch, Workspace& ws,
                    FrameSteps& report);
   // The probe of floor_keep_ratio: whether a collide-stage jump of `jump` from `start` (largest strain `strain`)
-  // is still made, by that fraction at least, by a step of options.min_dt.
+  // is still made, by that fraction at least, by a step at the floor level; then probe_ holds that step's end and
+  // probe_strain its largest strain. A probe that does not repeat the jump is counted as a rejected step.
   bool jump_stays_at_floor(const Model& model, const SimOptions& options, const State& start, Workspace& ws,
-                           const StepResult& result, Real strain, Real jump, FrameSteps& report);
-  State probe_;  // the probe step's end; allocated at the first probe
+                           const StepResult& result, Real strain, Real jump, FrameSteps& report, Real& probe_strain);
+  // The level of the smallest step dt / 2^level that is not below options.min_dt.
+  static int floor_level(const SimOptions& options);
+  State probe_;               // the probe step's end; allocated at the first probe
+  StepResult probe_result_;   // and what it did
   std::vector<Vec3> x_start_;
   Real energy_start_ = 0, energy_bound_ = 0;
   int level_ = 0;  // step = options.dt / 2^level
   int easy_ = 0;   // accepted steps in a row at this level
+  bool fast_grow_ = false;  // since the last rejection, a jump was kept: grow at every aligned point
   StepVerdict last_ = StepVerdict::none;
 };
 

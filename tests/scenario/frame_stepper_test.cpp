@@ -257,13 +257,30 @@ void check_kept_whole_step(const sim::LoadedScene& sc, int rejected) {
   CHECK(frames == 1);
 }
 
-TEST_CASE("auto: a collide-stage jump that a step at minTimestep still makes is kept at the whole step") {
-  // The needle through the sheet moving 2 cm in the frame: its probe at minTimestep still pushes the sheet's edges
-  // out to the thickness (the pierce, not the motion), so the 10 ms step is kept, reported, after one probe.
+TEST_CASE("auto: a collide-stage jump that a step at minTimestep still makes is kept as that step") {
+  // The needle through the sheet moving 2 cm in the frame: its probe at minTimestep (10 ms / 1024) still pushes the
+  // sheet's edges out to the thickness (the pierce, not the motion), so the probe's step is kept and reported in
+  // place of the 10 ms step, and the steps grow back over the rest of the frame.
   const auto dir = scratch_dir("auto_moving_pierced");
   write_text(dir / "scene.xml", needle_scene("auto_moving_pierced_mesh", "auto", true));
   const auto sc = load_collision_scene(dir / "scene.xml");
-  check_kept_whole_step(sc, 1);  // the probe
+  const Real dt = sc.built.options.dt, floor_step = std::ldexp(dt, -10);
+  int frames = 0;
+  run_frames(sc, [&](int f, const Model&, const State& state, const Workspace&, const sim::FrameReport& r) {
+    if (f == sc.built.options.start_frame) return;
+    ++frames;
+    CHECK(state.time == doctest::Approx(0.01));
+    CHECK(r.steps.rejected == 1);  // the 10 ms step, replaced by its probe
+    REQUIRE(r.steps.failed >= 1);
+    CHECK(r.steps.first_failure.verdict == StepVerdict::strain_jump);
+    CHECK(r.steps.first_failure.step == floor_step);
+    CHECK(r.steps.first_failure.strain_before == doctest::Approx(0).epsilon(1e-12));
+    CHECK(r.steps.first_failure.strain_after > FrameStepper::strain_jump);
+    CHECK(r.steps.smallest == floor_step);
+    CHECK(r.steps.largest == dt / 2);  // grown back, one level at each aligned point, to the frame's last half
+    MESSAGE("steps " << r.steps.taken << ", kept " << r.steps.failed);
+  });
+  CHECK(frames == 1);
   // The probe's steps and bytes are the same at 1 and 2 threads.
   std::vector<Vec3> x[2];
   int rejected[2] = {0, 0};
