@@ -49,8 +49,9 @@ struct StepResult {
   SolveRecord solve;  // the implicit solve's record (untouched for the explicit integrators)
   StepCounts counts;
   // For timestep="auto" with collisions (sim/frame_stepper.h tells the collide stage's strain jumps from the
-  // integrator's): the largest spring strain before the collide stage (-1: not measured), and how far the
-  // farthest collider-mesh vertex or cloth particle moved over the step before that stage, m.
+  // integrator's): the largest spring strain before the collide stage (-1: not measured), and the farthest travel
+  // over the step of a collider-mesh vertex or of a cloth particle as the integrator moved it (h |v|, before the
+  // stitch and strain limits), m.
   Real strain_before_collide = -1;
   Real travel = 0;
 };
