@@ -169,3 +169,4 @@ TEST_CASE("bending energy is added to the mechanical energy only for models with
   s.x = bent;
   CHECK(mechanical_energy(b.model, s, bent) == doctest::Approx(spring_potential_energy(b.model, bent) + hinge_e));
 }
+
