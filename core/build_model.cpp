@@ -10,6 +10,7 @@
 #include "core/build_collision.h"
 #include "core/error.h"
 #include "core/grid.h"
+#include "core/hinges.h"
 #include "core/spring_chunks.h"
 #include "core/spring_colours.h"
 #include "core/stitches.h"
@@ -21,18 +22,25 @@ namespace clothsim {
 namespace {
 
 // Springs of one cloth: the grid rule for grids; one edge spring per unique edge and one bend spring across
-// each interior manifold edge for meshes.
-SpringList cloth_springs(const ClothDesc& cloth, const MeshData& mesh, Index& pieces) {
-  if (cloth.grid_nx > 0) {
-    pieces = 1;
-    return make_grid_springs(cloth.grid_nx, cloth.grid_ny);
-  }
-  const Topology topo = build_topology(mesh);
-  pieces = topo.pieces;
+// each interior manifold edge for meshes. With dihedral bending the hinges take the place of the bend and flex
+// springs, which are not created (so the blocked layout and the implicit blocks see only stretch and shear).
+SpringList cloth_springs(const ClothDesc& cloth, const Topology& topo) {
+  const bool hinges = cloth.bending == Bending::dihedral;
   SpringList s;
-  s.a.reserve(topo.edge_count() + topo.bend_count());
+  if (cloth.grid_nx > 0) {
+    s = make_grid_springs(cloth.grid_nx, cloth.grid_ny);
+    if (hinges) {
+      SpringList kept;
+      for (Index k = 0; k < s.size(); ++k)
+        if (s.kind[k] != SpringKind::flex) kept.add(s.a[k], s.b[k], s.kind[k]);
+      s = std::move(kept);
+    }
+    return s;
+  }
+  s.a.reserve(topo.edge_count() + (hinges ? 0 : topo.bend_count()));
   for (Index e = 0; e < topo.edge_count(); ++e) s.add(topo.edge_a[e], topo.edge_b[e], SpringKind::edge);
-  for (Index e = 0; e < topo.bend_count(); ++e) s.add(topo.bend_a[e], topo.bend_b[e], SpringKind::bend);
+  if (!hinges)
+    for (Index e = 0; e < topo.bend_count(); ++e) s.add(topo.bend_a[e], topo.bend_b[e], SpringKind::bend);
   return s;
 }
 
@@ -199,7 +207,13 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
     mark_attachments(scene, cd, mesh, base, pinned_flag, m);
 
     straight_rest.push_back(cd.grid_nx > 0 && mesh.rest_positions.empty());
-    SpringList springs = cloth_springs(cd, mesh, info.pieces);
+    // Grids are one piece; their topology is built only for hinges (the grid rule gives their springs).
+    Topology topo;
+    if (cd.grid_nx == 0 || cd.bending == Bending::dihedral) topo = build_topology(mesh);
+    info.pieces = cd.grid_nx > 0 ? 1 : topo.pieces;
+    SpringList springs = cloth_springs(cd, topo);
+    if (cd.bending == Bending::dihedral) append_hinges(m, topo, base, rest, cd.bend_modulus);
+    topo = Topology();
     info.spring_begin = m.spring_count;
     const std::size_t spring_total = std::size_t(m.spring_count) + springs.size();
     m.spring_a.reserve(spring_total);
@@ -249,6 +263,7 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
 
   build_particle_tris(m);
   if (m.stitch_count > 0) build_particle_stitches(m);
+  if (m.hinge_count > 0) build_particle_hinges(m);
   // Each spring computed once and no per-spring buffer, where the spring order allows it (docs/performance.md).
   if (build_spring_chunks(m)) m.spring_layout = SpringLayout::blocked;
   // The spring CSR only when a kernel of this model reads it (the blocked layout alone does not).
@@ -280,6 +295,7 @@ Workspace make_workspace(const Model& model, const SimOptions& options) {
   ws.normal.assign(model.particle_count, Vec3::Zero());
   ws.stitch_rest.assign(model.stitch_count, 0);
   ws.stitch_pull.assign(model.stitch_count, 0);
+  ws.hinge_force.assign(4 * std::size_t(model.hinge_count), Vec3::Zero());
   if (options.integrator == Integrator::implicit) {
     for (auto* buf : {&ws.cg_x, &ws.cg_r, &ws.cg_p, &ws.cg_q}) buf->assign(model.particle_count, Vec3::Zero());
     if (options.solver.newton_iterations > 1) ws.dv.assign(model.particle_count, Vec3::Zero());

@@ -36,6 +36,19 @@ void build_particle_springs(const Model& m, std::vector<Index>& offset, std::vec
 
 void build_particle_springs(Model& m) { build_particle_springs(m, m.particle_spring_offset, m.particle_spring_index); }
 
+void build_particle_hinges(Model& m) {
+  counting_csr(m.particle_count, 4 * std::size_t(m.hinge_count),
+               [&](auto emit) {
+                 for (Index h = 0; h < m.hinge_count; ++h) {
+                   emit(m.hinge_o1[h], 4 * h);
+                   emit(m.hinge_o2[h], 4 * h + 1);
+                   emit(m.hinge_e0[h], 4 * h + 2);
+                   emit(m.hinge_e1[h], 4 * h + 3);
+                 }
+               },
+               m.particle_hinge_offset, m.particle_hinge_index);
+}
+
 bool needs_particle_springs(const Model& m, Integrator integrator) {
   return m.spring_layout != SpringLayout::blocked || integrator == Integrator::implicit;
 }

@@ -24,6 +24,10 @@ bool needs_particle_springs(const Model& model, Integrator integrator);
 // layout, other than the ones it was built for (the studies run one model with every integrator).
 void ensure_particle_springs(Model& model, Integrator integrator);
 
+// The incident hinges of every particle, entry = 4 * hinge + slot (0: o1, 1: o2, 2: e0, 3: e1), in hinge order:
+// model.particle_hinge_offset / particle_hinge_index (core/hinges.h).
+void build_particle_hinges(Model& model);
+
 // The incident triangles of every particle, in triangle order: model.particle_tri_offset / particle_tri_index.
 void build_particle_tris(Model& model);
 

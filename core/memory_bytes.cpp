@@ -23,7 +23,9 @@ std::size_t model_bytes(const Model& m) {
                                 m.spring_chunk_close_range, m.spring_block_close, m.tri_index,
                                 m.particle_tri_offset, m.particle_tri_index, m.spring_colour_offset,
                                 m.spring_colour_spring, m.tether_particle, m.tether_pin, m.tether_length,
-                                m.attach_particle, m.attach_collider, m.attach_tri, m.attach_weight, m.attach_offset);
+                                m.attach_particle, m.attach_collider, m.attach_tri, m.attach_weight, m.attach_offset,
+                                m.hinge_e0, m.hinge_e1, m.hinge_o1, m.hinge_o2, m.hinge_rest_angle, m.hinge_k,
+                                m.particle_hinge_offset, m.particle_hinge_index);
   total += m.particle_thickness.bytes() + m.particle_stiffness.bytes() + m.spring_ke.bytes() + m.spring_kd.bytes() +
            m.spring_max_strain.bytes();
   for (const ClothInfo& c : m.cloths) total += sum_bytes(c.uvs, c.tri_uv);
@@ -43,7 +45,7 @@ std::size_t multigrid_bytes(const Multigrid& mg) {
 
 std::size_t workspace_bytes(const Workspace& ws) {
   return sum_bytes(ws.f, ws.stage_x, ws.stage_v, ws.normal, ws.stitch_rest, ws.stitch_pull, ws.dv, ws.cg_x, ws.cg_r,
-                   ws.cg_p, ws.cg_q, ws.cg_precond, ws.spring_block, ws.stitch_kx, ws.stitch_block) +
+                   ws.cg_p, ws.cg_q, ws.cg_precond, ws.spring_block, ws.stitch_kx, ws.stitch_block, ws.hinge_force) +
          multigrid_bytes(ws.multigrid) + (ws.cholesky ? cholesky_bytes(*ws.cholesky) : 0);
 }
 

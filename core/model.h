@@ -114,6 +114,16 @@ struct Model {
   // incident stitches of each particle, entry = 3 * stitch + slot (0: a, 1: b, 2: c) (particle_count + 1 or 0)
   std::vector<Index> particle_stitch_offset, particle_stitch_index;
 
+  // --- hinges: dihedral-angle bending (core/hinges.h, systems/bend_forces.h) of cloths with bending="dihedral";
+  // the energy k (theta - theta0)^2 over each interior edge e0-e1 with opposite vertices o1, o2
+  Index hinge_count = 0;
+  std::vector<Index> hinge_e0, hinge_e1;  // the shared edge's ends (hinge_count)
+  std::vector<Index> hinge_o1, hinge_o2;  // the vertices opposite it (hinge_count)
+  std::vector<Real> hinge_rest_angle;     // theta0 from the rest mesh, rad (hinge_count)
+  std::vector<Real> hinge_k;              // (D / 6) 3 |e|^2 / (A1 + A2) from the rest mesh, N m (hinge_count)
+  // incident hinges of each particle, entry = 4 * hinge + slot (0: o1, 1: o2, 2: e0, 3: e1), in hinge order
+  std::vector<Index> particle_hinge_offset, particle_hinge_index;  // (particle_count + 1, 4 * hinge_count; or 0)
+
   // --- triangles
   Index tri_count = 0;
   std::vector<Index> tri_index;               // (3 * tri_count)
@@ -166,6 +176,7 @@ struct Workspace {
   std::vector<Sym3> cg_precond;    // inverse of the system's diagonal 3x3 block, 0 for pinned (particle_count)
   std::vector<Sym3> spring_block;  // h kd n n^T + h^2 dfa/dxb of each spring, symmetric (spring_count)
   std::vector<Sym3> stitch_kx, stitch_block;  // each stitch's -df/dg and h Kv + h^2 Kx (stitch_count)
+  std::vector<Vec3> hinge_force;   // each hinge's forces on o1, o2, e0, e1, before the gather (4 * hinge_count)
   Multigrid multigrid;  // the multigrid preconditioner's levels (empty without it)
   // sparse Cholesky preconditioner (core/cholesky_factor.h; null without it): refactored when the step changes or
   // a solve does not converge in a few CG iterations with the factor it has (systems/cholesky_preconditioner.h)

@@ -15,12 +15,15 @@ enum class Integrator { euler, symplectic, rk4, implicit };
 enum class Preconditioner { jacobi, multigrid, cholesky };
 // Broad phase of the collision stage (docs/performance.md, "Spatial hash against BVH", compares them).
 enum class BroadPhase { hash, bvh };
+// A cloth's bending: bend/flex springs (the seeds' model) or dihedral-angle hinges (core/hinges.h; docs/model.md).
+enum class Bending { springs, dihedral };
 
 // The names the scene file, the reports and the studies use: one table per enum, in the enum's order, so a new
 // value is added in one place.
 inline constexpr std::array<const char*, 4> integrator_names{"euler", "symplectic", "rk4", "implicit"};
 inline constexpr std::array<const char*, 3> preconditioner_names{"jacobi", "multigrid", "cholesky"};
 inline constexpr std::array<const char*, 2> broad_phase_names{"hash", "bvh"};
+inline constexpr std::array<const char*, 2> bending_names{"springs", "dihedral"};
 inline const char* integrator_name(Integrator i) { return integrator_names[std::size_t(i)]; }
 inline const char* preconditioner_name(Preconditioner p) { return preconditioner_names[std::size_t(p)]; }
 // The value a table names `name`; false (out unchanged) when it names none.
@@ -116,6 +119,8 @@ struct ClothDesc {
   Real stiffness = 1000;      // N/m per spring
   Real shear_scale = 1;       // shear springs: stiffness * shear_scale (grids)
   Real bend_scale = 1;        // bend/flex springs: stiffness * bend_scale
+  Bending bending = Bending::springs;  // dihedral: hinges instead of bend/flex springs
+  Real bend_modulus = 1e-5;   // N m, bending modulus D of the dihedral hinges (plate rigidity, per unit width)
   Real damping = 0.1;         // N s/m per spring, on the relative speed along it
   Real thickness = 0.005;     // m
   std::vector<Index> pins;    // vertex indices held fixed

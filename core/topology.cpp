@@ -118,6 +118,7 @@ Topology build_topology(const MeshData& mesh) {
 
   topo.bend_a.reserve(topo.edge_count());  // at most one bend pair an edge; untouched capacity costs no memory
   topo.bend_b.reserve(topo.edge_count());
+  topo.bend_edge.reserve(topo.edge_count());
   for (Index e = 0; e < topo.edge_count(); ++e) {
     if (edge_tris[e] == 1) ++topo.boundary_edges;
     if (edge_tris[e] >= 3) ++topo.nonmanifold_edges;
@@ -125,6 +126,7 @@ Topology build_topology(const MeshData& mesh) {
     if (edge_tris[e] == 2 && o0 != o1) {
       topo.bend_a.push_back(std::min(o0, o1));
       topo.bend_b.push_back(std::max(o0, o1));
+      topo.bend_edge.push_back(e);
     }
   }
   for (Index i = 0; i < nv; ++i) {

@@ -10,6 +10,7 @@ namespace clothsim {
 struct Topology {
   std::vector<Index> edge_a, edge_b;  // unique edges, a < b, in order of first appearance (edge_count)
   std::vector<Index> bend_a, bend_b;  // vertices opposite each edge shared by exactly two triangles
+  std::vector<Index> bend_edge;       // the edge each bend pair straddles, into edge_a/edge_b (bend_count)
   Index boundary_edges = 0;           // edges of one triangle
   Index nonmanifold_edges = 0;        // edges of three or more triangles: no bend spring
   Index degenerate_triangles = 0;     // repeated corner or zero area

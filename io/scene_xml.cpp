@@ -212,7 +212,7 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
                 ClothDesc& c, int index) {
   ElementReader r(file, text, n,
                   {"name", "obj", "grid", "size", "saveDir", "saveName", "texture", "translate", "rotate", "scale",
-                   "friction", "restitution", "selfCollision", "clothCollision", "maxStrain", "weld", "sewSpeed", "rest"});
+                   "friction", "restitution", "selfCollision", "clothCollision", "maxStrain", "weld", "sewSpeed", "rest", "bending"});
   c.line = r.line();
   c.name = r.name_text("name", "cloth" + std::to_string(index));
   if (r.has("obj") == r.has("grid")) r.fail("expected exactly one of obj=\"mesh.obj\" or grid=\"NX NY\"");
@@ -245,6 +245,8 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
   if (c.restitution > 1) r.bad("restitution", "a number in [0, 1]");
   c.self_collision = r.boolean("selfCollision", c.self_collision);
   c.cloth_collision = r.boolean("clothCollision", c.cloth_collision);
+  if (!enum_from_name(bending_names, r.text("bending", "springs"), c.bending))
+    r.bad("bending", "springs or dihedral");
   if (r.has("maxStrain")) c.max_strain = r.positive("maxStrain", 0, "largest strain (|d| - rest)/rest, e.g. 0.1");
   c.weld = r.non_negative("weld", c.weld, "m");
   c.sew_speed = r.positive("sewSpeed", c.sew_speed, "m/s");
@@ -270,10 +272,16 @@ void read_cloth(const std::string& file, const std::string& text, const std::str
       c.mass_per_vertex = true;
       read_param(s, base, c.mass, c.mass_map, true, "kg per vertex");
     } else if (name == "stiffness") {
-      ElementReader s(file, text, p, {"value", "shear", "bend", "min", "max", "map"});
+      ElementReader s(file, text, p, {"value", "shear", "bend", "bendModulus", "min", "max", "map"});
       read_param(s, base, c.stiffness, c.stiffness_map, false, "N/m");
       c.shear_scale = s.non_negative("shear", c.shear_scale, "factor of value");
       c.bend_scale = s.non_negative("bend", c.bend_scale, "factor of value");
+      // Each attribute names the model it sets: a modulus the springs would ignore is an error, not a no-op.
+      if (s.has("bendModulus") && c.bending != Bending::dihedral)
+        s.fail("bendModulus applies to <cloth bending=\"dihedral\">; springs take bend=\"factor of value\"");
+      if (s.has("bend") && c.bending == Bending::dihedral)
+        s.fail("bend scales bend springs; a cloth with bending=\"dihedral\" takes bendModulus=\"N m\"");
+      c.bend_modulus = s.non_negative("bendModulus", c.bend_modulus, "N m");
     } else if (name == "damping") {
       read_param(ElementReader(file, text, p, {"value", "min", "max", "map"}), base, c.damping, c.damping_map, false,
                  "N s/m");

@@ -1,5 +1,6 @@
 #include "systems/forces.h"
 
+#include "systems/bend_forces.h"
 #include "systems/stitch_forces.h"
 
 namespace clothsim {
@@ -9,6 +10,7 @@ StepCounts eval_forces(const Model& model, std::span<const Vec3> x, std::span<co
   const auto t0 = std::chrono::steady_clock::now();
   eval_springs(model, x, v, ws.f);
   if (model.stitch_count > 0) eval_stitches(model, x, v, ws.stitch_rest, ws.stitch_pull, ws.f);
+  if (model.hinge_count > 0) eval_hinges(model, x, ws.hinge_force, ws.f);
   if (model.needs_normals()) eval_normals(model, x, ws.normal);
   apply_external_forces(model, x, v, time, ws.normal, ws.f);
   StepCounts counts;

@@ -11,7 +11,7 @@
 
 namespace clothsim {
 
-// The force stage: springs, then external forces, leaving accelerations in ws.f. Every integrator stage calls
+// The force stage: springs, stitches, hinges, then external forces, leaving accelerations in ws.f. Every integrator stage calls
 // this on the whole system (springs couple particles, so none can be advanced alone). Returns one evaluation and
 // its wall time (StepCounts::force_evaluations, seconds_forces).
 StepCounts eval_forces(const Model& model, std::span<const Vec3> x, std::span<const Vec3> v, Real time,
@@ -26,8 +26,8 @@ StepCounts eval_forces(const Model& model, std::span<const Vec3> x, std::span<co
 template <class Update>
 StepCounts eval_forces_then(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Real time,
                             Workspace& ws, Update&& update) {
-  // Stitches add their forces after the springs, before any particle is final: no fused pass with them.
-  if (m.spring_layout != SpringLayout::blocked || !m.fuse_particle_pass || m.stitch_count > 0) {
+  // Stitches and hinges add their forces after the springs, before any particle is final: no fused pass with them.
+  if (m.spring_layout != SpringLayout::blocked || !m.fuse_particle_pass || m.stitch_count > 0 || m.hinge_count > 0) {
     const StepCounts counts = eval_forces(m, x, v, time, ws);
     parallel_over(m.particle_count, particle_grain, update);
     return counts;

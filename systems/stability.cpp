@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/csr.h"
+#include "systems/bend_forces.h"
 #include "systems/parallel.h"
 #include "systems/random_force.h"
 #include "systems/reduce.h"
@@ -233,6 +234,8 @@ Real mechanical_energy(const Model& m, const State& s, std::span<const Vec3> x_s
     const Real stretch = (s.x[m.spring_b[k]] - s.x[m.spring_a[k]]).norm() - m.spring_rest[k];
     return 0.5 * m.spring_ke[k] * stretch * stretch;
   });
+  // Bending hinges store energy too; a model without them keeps the sum it always had (same bytes).
+  if (m.hinge_count > 0) return particles + springs + hinge_potential_energy(m, s.x);
   return particles + springs;
 }
 

@@ -60,7 +60,8 @@ StableSteps stable_steps(Real omega_max);
 Real stable_step_limit(const StableSteps& limits, Integrator integrator);
 
 // Total mechanical energy relative to the start, J: kinetic + spring potential sum ke (|d| - rest)^2 / 2
-// - sum m g.(x - x_start) (g: gravity plus constant external acceleration). Deterministic sums.
+// - sum m g.(x - x_start) (g: gravity plus constant external acceleration), plus the hinges' bending energy
+// sum k (theta - theta0)^2 where the model has hinges. Deterministic sums.
 Real mechanical_energy(const Model& model, const State& state, std::span<const Vec3> x_start);
 
 // The largest rise of mechanical_energy over its start value a run may show before it is declared diverged:
