@@ -2,10 +2,7 @@
 // tube of two panels sewn round, and the same bytes at 1 and 2 threads.
 #include <doctest/doctest.h>
 
-#include <tbb/global_control.h>
-
 #include <cmath>
-#include <cstring>
 
 #include "core/build_model.h"
 #include "core/grid.h"
@@ -14,6 +11,7 @@
 #include "systems/step.h"
 #include "systems/stitch_forces.h"
 #include "tests/support/scene_fixtures.h"
+#include "tests/support/thread_bytes.h"
 
 using namespace clothsim;
 
@@ -216,20 +214,8 @@ TEST_CASE("a tube of two panels sewn round: the threads pull no faster than sewS
 }
 
 TEST_CASE("sewing gives the same bytes at 1 and 2 threads") {
-  std::vector<State> results;
-  for (int threads : {1, 2}) {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    BuiltScene b = sewn_tube(40, 30, 0.1, Integrator::implicit, 0.2);  // 2,400 particles: split over threads
-    Workspace ws = make_workspace(b.model, b.options);
-    State scratch = b.state;
-    for (int k = 0; k < 10; ++k) {
-      step(b.model, b.options, b.state, scratch, ws, b.options.dt);
-      std::swap(b.state, scratch);
-    }
-    results.push_back(b.state);
-  }
-  CHECK(std::memcmp(results[1].x.data(), results[0].x.data(), results[0].x.size() * sizeof(Vec3)) == 0);
-  CHECK(std::memcmp(results[1].v.data(), results[0].v.data(), results[0].v.size() * sizeof(Vec3)) == 0);
+  // 2,400 particles: split over threads.
+  test::check_same_bytes_at_1_and_2_threads(sewn_tube(40, 30, 0.1, Integrator::implicit, 0.2), 10);
 }
 
 TEST_CASE("the Cholesky preconditioner factors the stitches: a fresh factor solves a sewn step in one iteration") {
