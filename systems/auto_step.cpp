@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/error.h"
+#include "systems/bend_forces.h"
 
 namespace clothsim {
 
@@ -16,10 +18,15 @@ Real auto_step_target(const SimOptions& o, const StableSteps& limits) {
   return o.step_safety * stable_step_limit(limits, o.integrator);
 }
 
+Real hinge_step_limit(const Model& m, std::span<const Vec3> x_rest) {
+  const Real omega = m.hinge_count > 0 ? estimate_hinge_omega(m, x_rest) : 0;
+  return omega > 0 ? 2 / (2 * omega) : std::numeric_limits<Real>::infinity();
+}
+
 void choose_auto_step(const Model& m, SimOptions& o, std::span<const Vec3> x_rest, const std::string& scene_path) {
   const StableSteps limits = o.integrator == Integrator::implicit ? StableSteps{}
                                                                    : stable_steps(estimate_modes(m, x_rest));
-  const Real target = auto_step_target(o, limits);
+  const Real target = std::min(auto_step_target(o, limits), o.step_safety * hinge_step_limit(m, x_rest));
   if (!(target > 0))
     throw Error(scene_path, "timestep=\"auto\": explicit Euler has no stable step for these springs (a stiff mode "
                             "has no damping); expected integrator=\"symplectic\", \"rk4\" or \"implicit\"");

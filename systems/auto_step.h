@@ -15,8 +15,13 @@ namespace clothsim {
 // 0 when there is none (explicit Euler on an undamped stiff mode).
 Real auto_step_target(const SimOptions& options, const StableSteps& limits);
 
+// The largest step the hinges of dihedral bending allow every integrator, which all step them explicitly: 2 / omega_b
+// with the cloth's highest bending frequency omega_b taken as twice the largest single hinge's
+// (estimate_hinge_omega; docs/stability.md, "Dihedral bending"). +inf without hinges.
+Real hinge_step_limit(const Model& model, std::span<const Vec3> x_rest);
+
 // Sets options.dt and options.steps_per_frame for timestep="auto": the largest step that divides a frame evenly and
-// does not exceed auto_step_target; min_dt defaults to dt / 1024. Throws Error naming the scene when explicit
+// does not exceed auto_step_target nor step_safety x hinge_step_limit; min_dt defaults to dt / 1024. Throws Error naming the scene when explicit
 // Euler has no stable step.
 void choose_auto_step(const Model& model, SimOptions& options, std::span<const Vec3> x_rest,
                       const std::string& scene_path);

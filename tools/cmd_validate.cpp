@@ -6,6 +6,7 @@
 #include "tools/commands.h"
 #include "sim/load_scene.h"
 #include "sim/step_advice.h"
+#include "systems/auto_step.h"
 
 namespace clothsim::cli {
 namespace {
@@ -60,6 +61,9 @@ int cmd_validate(int argc, char** argv) {
   std::printf("  omega_max %.6g rad/s, damping rate up to %.6g 1/s; largest stable step: symplectic %.6g s, "
               "rk4 %.6g s, euler %s, implicit unlimited\n", limits.omega_max, limits.gamma_max, limits.symplectic,
               limits.rk4, euler);
+  if (m.hinge_count > 0)
+    std::printf("  dihedral bending: %ld hinges, stepped explicitly by every integrator: largest stable step %.6g s\n",
+                long(m.hinge_count), hinge_step_limit(m, s.built.state.x));
   if (o.auto_step)
     std::printf("  timestep auto: %.6g s (stepSafety %g), at least %.6g s\n", o.dt, o.step_safety, o.min_dt);
   const std::string warning = sim::step_warning(o, limits);

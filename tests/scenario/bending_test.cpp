@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "systems/auto_step.h"
 #include "systems/bend_forces.h"
 #include "systems/stability.h"
 #include "systems/step.h"
@@ -114,4 +115,29 @@ TEST_CASE("dihedral bending gives the same bytes at 1 and 2 threads") {
     CAPTURE(integrator_name(integrator));
     test::check_same_bytes_at_1_and_2_threads(b, 20);
   }
+}
+
+TEST_CASE("timestep=auto stays below the hinges' explicit bound, which spring bending does not have") {
+  // The strip at 17 columns (a = 6.25 mm, D = 1e-4 N m): backward Euler's own target (0.7 x 20 ms, or the frame)
+  // is far past the hinges' 1 / omega_h, so the hinges choose the step; bend springs leave it at that target.
+  Strip s;
+  s.n = 17;
+  BuiltScene b = strip_scene(s, Integrator::implicit);
+  const Real omega_h = estimate_hinge_omega(b.model, b.state.x);
+  REQUIRE(omega_h > 0);
+  CHECK(hinge_step_limit(b.model, b.state.x) == doctest::Approx(1 / omega_h).epsilon(1e-15));
+  SimOptions o = b.options;
+  o.auto_step = true;
+  choose_auto_step(b.model, o, b.state.x, "strip");
+  CHECK(o.dt <= o.step_safety / omega_h);
+  CHECK(o.dt > 0.5 * o.step_safety / omega_h);  // the largest step that divides the frame: at least half
+  MESSAGE("omega_h " << omega_h << " rad/s, auto step " << o.dt << " s");
+  SceneDesc springs = test::grid_scene(s.n, s.rows(), 1, Integrator::implicit);
+  const BuiltScene sb = test::build(springs);
+  CHECK(sb.model.hinge_count == 0);
+  SimOptions so = sb.options;
+  so.auto_step = true;
+  choose_auto_step(sb.model, so, sb.state.x, "springs");
+  CHECK(so.dt == doctest::Approx(std::min(1 / so.fps, so.step_safety * 0.02)));  // a frame, or backward Euler's target
+  CHECK(o.dt < so.dt / 5);
 }
