@@ -101,16 +101,13 @@ bool FrameStepper::jump_stays_at_floor(const Model& m, const SimOptions& o, cons
                                        Real& probe_strain) {
   if (!jump_left_to_collide(result, strain)) return false;
   if (probe_.x.size() != start.x.size()) probe_ = start;
-  probe_result_ = step(m, o, start, probe_, ws, std::ldexp(o.dt, -floor_level(o)));
+  probe_result_ = step(m, o, start, probe_, ws, std::ldexp(o.dt, -floor_level_));
   record(report, probe_result_, o.integrator);
-  if (probe_result_.failed || !state_is_finite(probe_) || !jump_left_to_collide(probe_result_, strain)) {
-    ++report.rejected;
-    return false;
-  }
+  // One step more than the frame keeps, either way: the probe, or the whole step it replaces.
+  ++report.rejected;
+  if (probe_result_.failed || !state_is_finite(probe_) || !jump_left_to_collide(probe_result_, strain)) return false;
   probe_strain = max_spring_strain(m, probe_.x);
-  const bool repeats = probe_strain - strain >= floor_keep_ratio * jump;
-  if (!repeats) ++report.rejected;
-  return repeats;
+  return probe_strain - strain >= floor_keep_ratio * jump;
 }
 
 bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& state, State& scratch, Workspace& ws,
@@ -123,6 +120,7 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
   level_ = 0;
   easy_ = 0;
   fast_grow_ = false;
+  floor_level_ = floor_level(o);
   Real strain = max_spring_strain(m, state.x);
   // Position inside the frame in steps of the current level; the frame ends at steps_per_frame << level.
   std::int64_t pos = 0;
@@ -138,7 +136,7 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
     // have ended). Either then goes on to the energy check and, passing it, is reported as a fixed step's is; the
     // step grows back at the next aligned point.
     bool kept = false, probe_kept = false;
-    const bool at_floor = 0.5 * h < o.min_dt || level_ >= max_level;
+    const bool at_floor = level_ >= floor_level_;
     if (result.failed) verdict = failure_verdict(result, false);
     else if (!state_is_finite(scratch)) verdict = StepVerdict::non_finite;
     else if ((strain_after = max_spring_strain(m, scratch.x)) > strain + strain_jump) {
@@ -151,7 +149,6 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
     }
     if (verdict == StepVerdict::none && !(energy_rise(m, probe_kept ? probe_ : scratch) <= energy_bound_))
       verdict = StepVerdict::energy_jump;
-    if (probe_kept) ++report.rejected;  // the whole step, replaced by its probe (or both rejected, below)
     if (verdict != StepVerdict::none) {
       // Rejected: state still holds the step's start, untouched (step wrote into scratch only).
       ++report.rejected;
@@ -164,9 +161,8 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
       continue;
     }
     if (probe_kept) {
-      const int floor = floor_level(o);
-      pos <<= floor - level_;
-      level_ = floor;
+      pos <<= floor_level_ - level_;
+      level_ = floor_level_;
       std::swap(state, probe_);
     } else {
       std::swap(state, scratch);

@@ -89,10 +89,11 @@ class FrameStepper {
                    FrameSteps& report);
   // The probe of floor_keep_ratio: whether a collide-stage jump of `jump` from `start` (largest strain `strain`)
   // is still made, by that fraction at least, by a step at the floor level; then probe_ holds that step's end and
-  // probe_strain its largest strain. A probe that does not repeat the jump is counted as a rejected step.
+  // probe_strain its largest strain. Counts one rejected step: the probe, or the whole step it replaces.
   bool jump_stays_at_floor(const Model& model, const SimOptions& options, const State& start, Workspace& ws,
                            const StepResult& result, Real strain, Real jump, FrameSteps& report, Real& probe_strain);
-  // The level of the smallest step dt / 2^level that is not below options.min_dt.
+  // The level of the smallest step dt / 2^level that is not below options.min_dt (at most 40 halvings): a step
+  // there is the smallest allowed.
   static int floor_level(const SimOptions& options);
   State probe_;               // the probe step's end; allocated at the first probe
   StepResult probe_result_;   // and what it did
@@ -100,6 +101,7 @@ class FrameStepper {
   Real energy_start_ = 0, energy_bound_ = 0;
   int level_ = 0;  // step = options.dt / 2^level
   int easy_ = 0;   // accepted steps in a row at this level
+  int floor_level_ = 0;  // floor_level(options) of the frame
   bool fast_grow_ = false;  // since the last rejection, a jump was kept: grow at every aligned point
   StepVerdict last_ = StepVerdict::none;
 };
