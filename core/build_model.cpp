@@ -303,6 +303,7 @@ Workspace make_workspace(const Model& model, const SimOptions& options) {
     ws.spring_block.assign(model.spring_count, Sym3{});
     ws.stitch_kx.assign(model.stitch_count, Sym3{});
     ws.stitch_block.assign(model.stitch_count, Sym3{});
+    ws.hinge_jac.assign(4 * std::size_t(model.hinge_count), Vec3::Zero());
     if (options.solver.preconditioner == Preconditioner::multigrid) ws.multigrid = build_multigrid_levels(model);
     if (options.solver.preconditioner == Preconditioner::cholesky) ws.cholesky = build_cholesky_factor(model);
   }

@@ -42,8 +42,9 @@ void CholeskyFactorDelete::operator()(CholeskyFactor* f) const { delete f; }
 
 namespace {
 
-// Calls pair(a, b) for each pair of particles the matrix couples: the ends of every spring, and each two distinct
-// particles of a stitch (the vertex and the two it is sewn between), so a seam between panels is in the pattern.
+// Calls pair(a, b) for each pair of particles the matrix couples: the ends of every spring, each two distinct
+// particles of a stitch (the vertex and the two it is sewn between), so a seam between panels is in the pattern,
+// and each two of a dihedral hinge's four (o1-o2 is no spring's: it replaces the bend spring there).
 template <class Pair>
 void for_each_coupled_pair(const Model& m, Pair&& pair) {
   for (Index s = 0; s < m.spring_count; ++s) pair(m.spring_a[s], m.spring_b[s]);
@@ -52,6 +53,11 @@ void for_each_coupled_pair(const Model& m, Pair&& pair) {
     for (int k = 0; k < 3; ++k)
       for (int l = k + 1; l < 3; ++l)
         if (p[k] != p[l]) pair(p[k], p[l]);
+  }
+  for (Index h = 0; h < m.hinge_count; ++h) {
+    const Index p[4] = {m.hinge_o1[h], m.hinge_o2[h], m.hinge_e0[h], m.hinge_e1[h]};
+    for (int k = 0; k < 4; ++k)
+      for (int l = k + 1; l < 4; ++l) pair(p[k], p[l]);
   }
 }
 
@@ -164,23 +170,22 @@ void cholesky_add_diagonal(CholeskyFactor& f, Index particle, const Sym3& block)
 namespace {
 
 // Adds sign * block to the off-diagonal block whose rows start `first` entries into each scalar column of block
-// column j (symmetric, so the (a, b) and (b, a) blocks are the same and only the upper one is stored).
-void add_off_diagonal(CholeskyFactor& f, int j, int first, const Sym3& block, Real sign) {
-  const Mat3 m = sign * block.full();
+// column j (the matrix is symmetric: only the upper of the (a, b) and (b, a) blocks is stored).
+void add_off_diagonal(CholeskyFactor& f, int j, int first, const Mat3& block, Real sign) {
   Real* v = static_cast<Real*>(f.a->x);
   const int* outer = static_cast<const int*>(f.a->p);
   for (int c = 0; c < 3; ++c)
-    for (int r = 0; r < 3; ++r) v[outer[3 * j + c] + first + r] += m(r, c);
+    for (int r = 0; r < 3; ++r) v[outer[3 * j + c] + first + r] += sign * block(r, c);
 }
 
 }  // namespace
 
 void cholesky_add_coupling(CholeskyFactor& f, Index spring, const Sym3& block, Index a, Index b) {
   const int j = std::max(f.new_index[std::size_t(a)], f.new_index[std::size_t(b)]);
-  add_off_diagonal(f, j, 3 * f.spring_pos[std::size_t(spring)], block, -1);
+  add_off_diagonal(f, j, 3 * f.spring_pos[std::size_t(spring)], block.full(), -1);
 }
 
-void cholesky_add_block(CholeskyFactor& f, Index a, Index b, const Sym3& block) {
+void cholesky_add_block(CholeskyFactor& f, Index a, Index b, const Mat3& ab) {
   const int pa = f.new_index[std::size_t(a)], pb = f.new_index[std::size_t(b)];
   const int i = std::min(pa, pb), j = std::max(pa, pb);
   const int* outer = static_cast<const int*>(f.a->p);
@@ -188,7 +193,8 @@ void cholesky_add_block(CholeskyFactor& f, Index a, Index b, const Sym3& block) 
   // Block row I's first entry in column 3J: the pattern's rows are sorted, the neighbours' before the diagonal.
   const int* column = inner + outer[3 * j];
   const int first = int(std::lower_bound(column, column + 3 * f.up_count[std::size_t(j)], 3 * i) - column);
-  add_off_diagonal(f, j, first, block, 1);
+  // The stored block has the rows of the particle placed first: A_ab if that is a, else A_ba = ab^T.
+  add_off_diagonal(f, j, first, pa < pb ? ab : Mat3(ab.transpose()), 1);
 }
 
 bool cholesky_factorize(CholeskyFactor& f) {

@@ -1,6 +1,6 @@
 #pragma once
 // The sparse Cholesky factorisation of the implicit step's matrix (preconditioner="cholesky"): the matrix's
-// pattern is fixed for the run (one 3x3 block per particle, per spring and per pair of a stitch's particles), so the fill-reducing ordering and
+// pattern is fixed for the run (one 3x3 block per particle, per spring, per pair of a stitch's particles and per pair of a hinge's), so the fill-reducing ordering and
 // the symbolic factorisation are computed once when the workspace is made, and each refactorisation is numeric
 // only (Davis 2006, "Direct Methods for Sparse Linear Systems", ch. 4 and 7). The ordering is approximate
 // minimum degree (Amestoy, Davis & Duff 1996) on the particle graph, applied to whole 3x3 blocks, so a block's
@@ -31,9 +31,9 @@ void cholesky_clear(CholeskyFactor& f);
 void cholesky_add_diagonal(CholeskyFactor& f, Index particle, const Sym3& block);
 // Adds -block at (a, b) and (b, a): a spring's coupling (A p)_a = ... - B_s p_b.
 void cholesky_add_coupling(CholeskyFactor& f, Index spring, const Sym3& block, Index a, Index b);
-// Adds block at (a, b) and (b, a), a != b, for a pair the pattern holds that is not a spring: a stitch's
-// particles (found by a search of the column, where a spring's place is precomputed).
-void cholesky_add_block(CholeskyFactor& f, Index a, Index b, const Sym3& block);
+// Adds ab at (a, b) and ab^T at (b, a), a != b, for a pair the pattern holds that is not a spring: a stitch's or
+// a hinge's particles (found by a search of the column, where a spring's place is precomputed).
+void cholesky_add_block(CholeskyFactor& f, Index a, Index b, const Mat3& ab);
 // Numeric factorisation of the values set; false when the matrix is not positive definite.
 // Single-threaded: the same bytes at any thread count.
 bool cholesky_factorize(CholeskyFactor& f);

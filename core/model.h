@@ -176,6 +176,7 @@ struct Workspace {
   std::vector<Sym3> cg_precond;    // inverse of the system's diagonal 3x3 block, 0 for pinned (particle_count)
   std::vector<Sym3> spring_block;  // h kd n n^T + h^2 dfa/dxb of each spring, symmetric (spring_count)
   std::vector<Sym3> stitch_kx, stitch_block;  // each stitch's -df/dg and h Kv + h^2 Kx (stitch_count)
+  std::vector<Vec3> hinge_jac;  // each hinge's sqrt(2 k) d theta/dx at o1, o2, e0, e1 (4 * hinge_count; bend_forces.h)
   std::vector<Vec3> hinge_force;   // each hinge's forces on o1, o2, e0, e1, before the gather (4 * hinge_count)
   Multigrid multigrid;  // the multigrid preconditioner's levels (empty without it)
   // sparse Cholesky preconditioner (core/cholesky_factor.h; null without it): refactored when the step changes or

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "sim/step_advice.h"
+#include "systems/auto_step.h"
 #include "systems/strain_limit.h"
 #include "systems/diagnostics.h"
 #include "systems/spring_forces.h"
@@ -92,7 +93,7 @@ FrameReport Simulation::advance_frame() {
       std::snprintf(reason, sizeof reason, "non-finite positions or velocities");
     const Real failed_step = stepper_.current_step(options_);
     const std::string remedy =
-        step_remedy(options_, scene_stable_steps(model_, stepper_.start_positions()), failed_step);
+        step_remedy(options_, model_stable_steps(model_, stepper_.start_positions()), failed_step);
     char text[600];
     std::snprintf(text, sizeof text, "frame %d, step %lld: the simulation diverged (%s); no frame from here on "
                   "was written. The step was %.3g s: %s.", r.frame, static_cast<long long>(state_.step), reason,

@@ -22,11 +22,12 @@ Real advised_step(const SimOptions& m, const StableSteps& limits, Real diverged_
   return advised;
 }
 
-}  // namespace
-
-StableSteps scene_stable_steps(const Model& model, std::span<const Vec3> x_rest) {
-  return stable_steps(estimate_modes(model, x_rest));
+// What sets an explicit integrator's limit: the springs (with their damping) or the dihedral hinges.
+std::string limit_cause(const StableSteps& limits, Real limit) {
+  return limit == limits.hinges ? "the dihedral hinges' bending" : "these springs and their damping";
 }
+
+}  // namespace
 
 std::string step_remedy(const SimOptions& m, const StableSteps& limits, Real diverged_step) {
   const std::string alternatives = ", timestep=\"auto\", or integrator=\"implicit\"";
@@ -56,8 +57,8 @@ std::string step_remedy(const SimOptions& m, const StableSteps& limits, Real div
              (advised < auto_step_target(m, limits) ? " (half the step that diverged; the estimated limit is " +
                                                           seconds(limit) + ")"
                                                     : " (stepSafety " + std::string(safety) +
-                                                          " x the limit " + seconds(limit) +
-                                                          " for these springs and their damping)") +
+                                                          " x the limit " + seconds(limit) + " for " +
+                                                          limit_cause(limits, limit) + ")") +
              alternatives;
     }
     case Integrator::implicit:
@@ -78,7 +79,7 @@ std::string step_warning(const SimOptions& m, const StableSteps& limits) {
   if (std::isinf(limit) || m.dt <= auto_step_target(m, limits)) return "";
   const char* names[] = {"explicit Euler", "symplectic Euler", "RK4", ""};
   return "warning: the step " + seconds(m.dt) + (m.dt >= limit ? " exceeds the " : " is close to the ") +
-         names[int(m.integrator)] + " limit " + seconds(limit) + " for these springs and their damping; " +
+         names[int(m.integrator)] + " limit " + seconds(limit) + " for " + limit_cause(limits, limit) + "; " +
          step_remedy(m, limits);
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-// What `validate` and `run` tell the user about the time step: the stability limits of the scene's springs and
-// damping, and the step to use instead when the scene's step is past its integrator's limit or diverged.
+// What `validate` and `run` tell the user about the time step, from the stability limits of the scene's springs,
+// damping and hinges (model_stable_steps, systems/auto_step.h): the step to use instead when the scene's step is
+// past its integrator's limit or diverged.
 #include <span>
 #include <string>
 
@@ -8,9 +9,6 @@
 #include "systems/stability.h"
 
 namespace clothsim::sim {
-
-// The damped limits for the scene at rest (power iterations: systems/stability.h).
-StableSteps scene_stable_steps(const Model& model, std::span<const Vec3> x_rest);
 
 // One sentence naming the remedy: a step below the advised one (stepSafety x the integrator's damped limit, the
 // step timestep="auto" aims for), timestep="auto", or the implicit integrator. diverged_step > 0 is a step that

@@ -23,10 +23,15 @@ Real hinge_step_limit(const Model& m, std::span<const Vec3> x_rest) {
   return omega > 0 ? 2 / (2 * omega) : std::numeric_limits<Real>::infinity();
 }
 
+StableSteps model_stable_steps(const Model& m, std::span<const Vec3> x_rest) {
+  StableSteps limits = stable_steps(estimate_modes(m, x_rest));
+  limits.hinges = hinge_step_limit(m, x_rest);
+  return limits;
+}
+
 void choose_auto_step(const Model& m, SimOptions& o, std::span<const Vec3> x_rest, const std::string& scene_path) {
-  const StableSteps limits = o.integrator == Integrator::implicit ? StableSteps{}
-                                                                   : stable_steps(estimate_modes(m, x_rest));
-  const Real target = std::min(auto_step_target(o, limits), o.step_safety * hinge_step_limit(m, x_rest));
+  const StableSteps limits = o.integrator == Integrator::implicit ? StableSteps{} : model_stable_steps(m, x_rest);
+  const Real target = auto_step_target(o, limits);
   if (!(target > 0))
     throw Error(scene_path, "timestep=\"auto\": explicit Euler has no stable step for these springs (a stiff mode "
                             "has no damping); expected integrator=\"symplectic\", \"rk4\" or \"implicit\"");

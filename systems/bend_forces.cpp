@@ -20,6 +20,21 @@ void eval_hinges(const Model& m, std::span<const Vec3> x, std::span<Vec3> hinge_
   });
 }
 
+void build_hinge_jacobians(const Model& m, std::span<const Vec3> x, std::span<Vec3> u) {
+  parallel_over(m.hinge_count, particle_grain, [&](Index h) {
+    const Vec3 &o1 = x[m.hinge_o1[h]], &o2 = x[m.hinge_o2[h]], &e0 = x[m.hinge_e0[h]], &e1 = x[m.hinge_e1[h]];
+    const HingeFrame fr = hinge_frame(o1, o2, e0, e1);
+    const std::size_t b = 4 * std::size_t(h);
+    if (!hinge_live(fr)) {
+      for (int k = 0; k < 4; ++k) u[b + k] = Vec3::Zero();
+      return;
+    }
+    const auto g = hinge_angle_gradient(o1, o2, e0, e1, fr);
+    const Real scale = std::sqrt(2 * m.hinge_k[h]);
+    for (int k = 0; k < 4; ++k) u[b + k] = scale * g[k];
+  });
+}
+
 Real hinge_potential_energy(const Model& m, std::span<const Vec3> x) {
   return deterministic_sum(m.hinge_count, particle_grain, Real(0), [&](Index h) {
     return hinge_energy(x[m.hinge_o1[h]], x[m.hinge_o2[h]], x[m.hinge_e0[h]], x[m.hinge_e1[h]],

@@ -1,8 +1,8 @@
 #pragma once
 // Dihedral-angle bending (Bridson, Marino & Fedkiw 2003 §4.1; Grinspun et al. 2003): the force of each hinge is
 // minus the exact gradient of its energy E = k (theta - theta0)^2 (core/hinges.h). Undamped: the springs'
-// damping and air damping remain. The implicit integrator takes it explicitly, on the right-hand side only
-// (Bridson et al. 2003 do the same for bending; docs/stability.md gives the step bound that follows).
+// damping and air damping remain. The implicit integrator also puts each hinge's Gauss-Newton stiffness in its
+// matrix (hinge_row below), which lifts the explicit step bound docs/stability.md gives for the other three.
 #include <array>
 #include <span>
 
@@ -47,6 +47,42 @@ inline Real hinge_energy(const Vec3& o1, const Vec3& o2, const Vec3& e0, const V
 // Adds every hinge's forces to f: each hinge once into ws.hinge_force (in parallel, one writer each), then each
 // particle gathers its entries in the CSR's fixed order, so the sums are the same bytes at any thread count.
 void eval_hinges(const Model& model, std::span<const Vec3> x, std::span<Vec3> hinge_force, std::span<Vec3> f);
+
+// The hinges in the backward-Euler matrix (systems/implicit_system.h). A hinge's Hessian is
+// 2 k (g g^T + (theta - theta0) d^2 theta / dx^2), g = d theta / dx; its Gauss-Newton part K_h = 2 k g g^T keeps the
+// first term only: positive semi-definite (the matrix stays so), exact at the rest angle, and it holds the hinge's
+// one stiff mode, whose frequency sqrt(2 k g^T M^-1 g) bounds explicit steps (estimate_hinge_omega). The dropped
+// term is of the order of theta - theta0 and acts along the triangles' planes, where the springs are stiff.
+// build_hinge_jacobians writes u = sqrt(2 k) g at o1, o2, e0, e1 (4 * hinge_count; zero for a collapsed hinge),
+// so K_h = u u^T and -df/dx = sum over hinges of u u^T.
+void build_hinge_jacobians(const Model& m, std::span<const Vec3> x, std::span<Vec3> u);
+
+// Calls fn(hinge, slot) for each hinge of particle i, in hinge order (slot 0..3: o1, o2, e0, e1).
+template <class Fn>
+inline void for_each_hinge_of(const Model& m, Index i, Fn&& fn) {
+  for (Index k = m.particle_hinge_offset[i]; k < m.particle_hinge_offset[i + 1]; ++k)
+    fn(m.particle_hinge_index[k] / 4, int(m.particle_hinge_index[k] % 4));
+}
+// u . p over one hinge's four particles.
+inline Real hinge_combine(const Model& m, std::span<const Vec3> u, Index hinge, std::span<const Vec3> p) {
+  const std::size_t b = 4 * std::size_t(hinge);
+  return u[b].dot(p[m.hinge_o1[hinge]]) + u[b + 1].dot(p[m.hinge_o2[hinge]]) + u[b + 2].dot(p[m.hinge_e0[hinge]]) +
+         u[b + 3].dot(p[m.hinge_e1[hinge]]);
+}
+// Row i of K = sum of u u^T times p, and its diagonal block: (K p)_i = sum over i's hinges of u_i (u . p).
+inline Vec3 hinge_row(const Model& m, std::span<const Vec3> u, Index i, std::span<const Vec3> p) {
+  Vec3 sum = Vec3::Zero();
+  for_each_hinge_of(m, i, [&](Index h, int slot) { sum += hinge_combine(m, u, h, p) * u[4 * std::size_t(h) + slot]; });
+  return sum;
+}
+inline Sym3 hinge_diagonal(const Model& m, std::span<const Vec3> u, Index i) {
+  Mat3 d = Mat3::Zero();
+  for_each_hinge_of(m, i, [&](Index h, int slot) {
+    const Vec3& ui = u[4 * std::size_t(h) + slot];
+    d += ui * ui.transpose();
+  });
+  return Sym3::from(d);
+}
 
 // Total bending energy sum k (theta - theta0)^2, J, summed in a fixed order.
 Real hinge_potential_energy(const Model& model, std::span<const Vec3> x);

@@ -45,10 +45,21 @@ void factor_now(const Model& m, Real h, Workspace& ws) {
     for (int k = 0; k < 3; ++k)
       for (int l = 0; l < 3; ++l) {
         if (!(m.particle_inv_mass[p[k]] > 0) || !(m.particle_inv_mass[p[l]] > 0)) continue;
-        const Sym3 block = Sym3::from((c[k] * c[l]) * coef);
-        if (p[k] == p[l]) cholesky_add_diagonal(f, p[k], block);
+        const Mat3 block = (c[k] * c[l]) * coef;
+        if (p[k] == p[l]) cholesky_add_diagonal(f, p[k], Sym3::from(block));
         else if (k < l) cholesky_add_block(f, p[k], p[l], block);
       }
+  }
+  // Hinges: h^2 u_k u_l^T between their particles k, l (systems/bend_forces.h), as in the CG's product.
+  for (Index hg = 0; hg < m.hinge_count; ++hg) {
+    const Index p[4] = {m.hinge_o1[hg], m.hinge_o2[hg], m.hinge_e0[hg], m.hinge_e1[hg]};
+    const Vec3* u = &ws.hinge_jac[4 * std::size_t(hg)];
+    for (int k = 0; k < 4; ++k) {
+      if (!(m.particle_inv_mass[p[k]] > 0)) continue;
+      cholesky_add_diagonal(f, p[k], Sym3::from((h * h) * (u[k] * u[k].transpose())));
+      for (int l = k + 1; l < 4; ++l)
+        if (m.particle_inv_mass[p[l]] > 0) cholesky_add_block(f, p[k], p[l], (h * h) * (u[k] * u[l].transpose()));
+    }
   }
   ws.cholesky_h = cholesky_factorize(f) ? h : 0;
   ws.cholesky_solves = 0;

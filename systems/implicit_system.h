@@ -1,12 +1,14 @@
 #pragma once
 // The matrix of the backward-Euler step, A = M - h df/dv - h^2 df/dx (Baraff & Witkin 1998 eq. 15-16), as the
 // CG and the multigrid preconditioner apply it: a 3x3 block per particle outside the springs, and each spring's
-// symmetric block B_s, so (A p)_i = G_i p_i + sum over springs s = (i, j) of B_s (p_i - p_j). Pinned particles
+// symmetric block B_s, so (A p)_i = G_i p_i + sum over springs s = (i, j) of B_s (p_i - p_j), plus the stitches'
+// and the dihedral hinges' terms (h^2 u u^T per hinge, systems/bend_forces.h). Pinned particles
 // are filtered out (their rows and columns are zero; Baraff & Witkin §5.3 with S = 0).
 #include <span>
 #include <type_traits>
 
 #include "core/model.h"
+#include "systems/bend_forces.h"
 #include "systems/parallel.h"
 #include "systems/spring_jacobian.h"
 #include "systems/stitch_forces.h"
@@ -54,6 +56,7 @@ inline Vec3 system_row(const Model& m, std::span<const Vec3> x, Real h, const Wo
   }
   // Stitches: their c c^T (x) (h Kv + h^2 Kx) blocks (systems/stitch_forces.h).
   if (m.stitch_count > 0) sum += stitch_row(m, ws, i, p);
+  if (m.hinge_count > 0) sum += (h * h) * hinge_row(m, ws.hinge_jac, i, p);
   return sum;
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "systems/bend_forces.h"
 #include "systems/cholesky_preconditioner.h"
 #include "systems/contact_filter.h"
 #include "systems/forces.h"
@@ -56,6 +57,11 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
     if (m.stitch_count > 0) {
       block += stitch_diagonal(m, ws, i);
       if (first) kv += stitch_dfdx_times(m, ws, i, v);
+    }
+    // Hinges: h^2 sum u_i u_i^T, and -sum u_i (u . v) (systems/bend_forces.h).
+    if (m.hinge_count > 0) {
+      block += Sym3::from((h * h) * hinge_diagonal(m, ws.hinge_jac, i).full());
+      if (first) kv -= hinge_row(m, ws.hinge_jac, i, v);
     }
     ws.cg_precond[i] = Sym3::from(block.full().inverse());  // symmetric up to round-off: its lower triangle
     ws.cg_r[i] = first ? Vec3(h * mass * ws.f[i] + (h * h) * kv) : Vec3(h * mass * ws.f[i] - mass * ws.dv[i]);
@@ -180,6 +186,7 @@ StepResult integrate_implicit(const Model& m, const SolverOptions& opt, const St
     result.counts.add(eval_forces(m, x, v, in.time, ws));
     build_spring_blocks(m, x, h, ws);
     if (m.stitch_count > 0) build_stitch_blocks(m, x, v, h, ws);
+    if (m.hinge_count > 0) build_hinge_jacobians(m, x, ws.hinge_jac);
     if (first && !one_solve) parallel_over(n, particle_grain, [&](Index i) { dv[i] = Vec3::Zero(); });
     build_particle_terms(m, x, v, h, first, ws);
     if (!first) {

@@ -216,9 +216,9 @@ StableSteps stable_steps(Real omega_max) {
 
 Real stable_step_limit(const StableSteps& limits, Integrator integrator) {
   switch (integrator) {
-    case Integrator::euler: return limits.euler;
-    case Integrator::symplectic: return limits.symplectic;
-    case Integrator::rk4: return limits.rk4;
+    case Integrator::euler: return std::min(limits.euler, limits.hinges);
+    case Integrator::symplectic: return std::min(limits.symplectic, limits.hinges);
+    case Integrator::rk4: return std::min(limits.rk4, limits.hinges);
     case Integrator::implicit: break;
   }
   return std::numeric_limits<Real>::infinity();

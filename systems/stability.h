@@ -52,11 +52,14 @@ struct StableSteps {
   Real euler = 0;       // s, 0 when some stiff mode is undamped
   Real symplectic = 0;  // s, +inf when omega_max and gamma_max are 0
   Real rk4 = 0;         // s
+  // s: the dihedral hinges' bound on the explicit integrators, which step bending explicitly (+inf without hinges;
+  // hinge_step_limit, systems/auto_step.h). Backward Euler has their Jacobian in its matrix and no such bound.
+  Real hinges = std::numeric_limits<Real>::infinity();
 };
 StableSteps stable_steps(const DampedModes& modes);
 // Undamped springs only: symplectic 2/omega_max, RK4 2 sqrt(2)/omega_max, explicit Euler none.
 StableSteps stable_steps(Real omega_max);
-// The limit of the model's integrator: +inf for implicit.
+// The limit of the model's integrator, the hinges' included: +inf for implicit.
 Real stable_step_limit(const StableSteps& limits, Integrator integrator);
 
 // Total mechanical energy relative to the start, J: kinetic + spring potential sum ke (|d| - rest)^2 / 2

@@ -55,15 +55,15 @@ int cmd_validate(int argc, char** argv) {
               form(m.particle_thickness).c_str());
   // Stability limits of the springs with their damping, air damping and wind (docs/stability.md): power
   // iterations on M^-1 K and M^-1 C at rest.
-  const StableSteps limits = sim::scene_stable_steps(m, s.built.state.x);
+  const StableSteps limits = model_stable_steps(m, s.built.state.x);
   char euler[32] = "none";
   if (limits.euler > 0) std::snprintf(euler, sizeof euler, "%.6g s", limits.euler);
   std::printf("  omega_max %.6g rad/s, damping rate up to %.6g 1/s; largest stable step: symplectic %.6g s, "
               "rk4 %.6g s, euler %s, implicit unlimited\n", limits.omega_max, limits.gamma_max, limits.symplectic,
               limits.rk4, euler);
   if (m.hinge_count > 0)
-    std::printf("  dihedral bending: %ld hinges, stepped explicitly by every integrator: largest stable step %.6g s\n",
-                long(m.hinge_count), hinge_step_limit(m, s.built.state.x));
+    std::printf("  dihedral bending: %ld hinges, in the implicit matrix; stepped explicitly by the other integrators: "
+                "largest stable step %.6g s\n", long(m.hinge_count), limits.hinges);
   if (o.auto_step)
     std::printf("  timestep auto: %.6g s (stepSafety %g), at least %.6g s\n", o.dt, o.step_safety, o.min_dt);
   const std::string warning = sim::step_warning(o, limits);

@@ -73,7 +73,7 @@ Row study_scene(const std::string& name, const Model& model, const SimOptions& o
   automatic.auto_step = true;
   choose_auto_step(model, automatic, start.x, name);
   row.auto_step = automatic.dt;
-  row.limit = stable_step_limit(stable_steps(estimate_modes(model, start.x)), options.integrator);
+  row.limit = stable_step_limit(model_stable_steps(model, start.x), options.integrator);
   const Real onset = onset_seconds(model, options.integrator, start.x);
   row.seconds = onset > seconds ? std::clamp(onset, shortest_growth_run, longest_run) : seconds;
   auto stable = [&](Real h) {

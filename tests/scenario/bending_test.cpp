@@ -1,10 +1,12 @@
 // Dihedral bending through the whole step: a cantilevered strip under small gravity against Euler-Bernoulli's
-// tip deflection q L^4 / (8 D) as the grid is refined, the same static deflection from every integrator, and the
-// same bytes at 1 and 2 threads.
+// tip deflection q L^4 / (8 D) as the grid is refined, the same static deflection from every integrator (and from
+// backward Euler far past the explicit bound, with the hinges' Jacobian), the Cholesky factor's hinge blocks, the
+// step bounds auto and validate apply, and the same bytes at 1 and 2 threads.
 #include <doctest/doctest.h>
 
 #include <cmath>
 
+#include "sim/step_advice.h"
 #include "systems/auto_step.h"
 #include "systems/bend_forces.h"
 #include "systems/stability.h"
@@ -50,14 +52,14 @@ BuiltScene strip_scene(const Strip& s, Integrator integrator) {
   return test::build(scene);
 }
 
-// Mean deflection of the free end's column after `seconds`, stepped at the largest step the integrator's
-// bound allows with a margin: symplectic, RK4 and implicit (bending explicit) by 2/omega, explicit Euler by
-// gamma/omega^2 (docs/stability.md); omega from the springs' estimate and twice the largest hinge's.
-Real tip_deflection(const Strip& s, Integrator integrator, Real seconds) {
+// Mean deflection of the free end's column after `seconds`, stepped at `step_size` or, when it is 0, at the largest
+// step the explicit integrators' bound allows with a margin: symplectic, RK4 and implicit by 2/omega, explicit
+// Euler by gamma/omega^2 (docs/stability.md); omega from the springs' estimate and twice the largest hinge's.
+Real tip_deflection(const Strip& s, Integrator integrator, Real seconds, Real step_size = 0) {
   BuiltScene b = strip_scene(s, integrator);
   const Model& m = b.model;
   const Real omega = std::hypot(estimate_omega_max(m, b.state.x), 2 * estimate_hinge_omega(m, b.state.x));
-  const Real h = integrator == Integrator::euler ? 0.5 * m.air_damping / (omega * omega) : 0.5 / omega;
+  const Real h = step_size > 0 ? step_size : integrator == Integrator::euler ? 0.5 * m.air_damping / (omega * omega) : 0.5 / omega;
   const auto steps = std::int64_t(std::ceil(seconds / h));
   Workspace ws = make_workspace(m, b.options);
   State scratch = b.state;
@@ -103,6 +105,53 @@ TEST_CASE("every integrator brings the dihedral cantilever to the same static ti
   }
 }
 
+TEST_CASE("backward Euler with the hinges' Jacobian in its matrix brings the cantilever to the same tip at 20x the explicit bound") {
+  // Without the Jacobian the implicit step is symplectic Euler for bending, unstable past 1 / omega_h
+  // (docs/stability.md): at 20x that bound the strip's bending modes would grow each step.
+  Strip s;
+  const BuiltScene b = strip_scene(s, Integrator::implicit);
+  const Real bound = hinge_step_limit(b.model, b.state.x);
+  const Real reference = tip_deflection(s, Integrator::implicit, 2.0);
+  const Real tip = tip_deflection(s, Integrator::implicit, 2.0, 20 * bound);
+  MESSAGE("explicit bound " << bound << " s; tip " << tip << " m at 20x it, " << reference << " m at 0.5 / omega");
+  CHECK(tip == doctest::Approx(reference).epsilon(1e-3));
+}
+
+TEST_CASE("the Cholesky factor holds the hinges: a fresh factor solves a bent step in one iteration, as the others do") {
+  // The factor's hinge blocks h^2 u_k u_l^T (and their transposes) must be the CG product's exactly, or a fresh
+  // factor leaves more than one iteration. Jacobi and multigrid reach the same velocities to the tolerance.
+  Strip s;
+  s.n = 17;
+  std::vector<Vec3> reference;
+  for (Preconditioner pc : {Preconditioner::cholesky, Preconditioner::jacobi, Preconditioner::multigrid}) {
+    CAPTURE(int(pc));
+    BuiltScene b = strip_scene(s, Integrator::implicit);
+    b.options.solver.preconditioner = pc;
+    b.options.solver.cg_tolerance = 1e-10;
+    b.options.solver.cg_max_iterations = 10000;
+    for (std::size_t i = 0; i < b.state.x.size(); ++i)  // a bent, moving start: the hinges are far from rest
+      if (b.model.particle_inv_mass[i] > 0) {
+        b.state.x[i].y() += 0.004 * std::pow(b.state.x[i].x() / s.L, 2) * (1 + b.state.x[i].z() / s.W);
+        b.state.v[i] = Vec3(0, 0.05 * std::sin(40 * b.state.x[i].x()), 0.02);
+      }
+    Workspace ws = make_workspace(b.model, b.options);
+    State out = b.state;
+    const StepResult r = step(b.model, b.options, b.state, out, ws, 0.01);
+    MESSAGE("preconditioner " << int(pc) << ": " << r.solve.cg_iterations << " CG iterations");
+    CHECK(r.solve.cg_residual < 1e-10);
+    if (pc == Preconditioner::cholesky) {
+      CHECK(r.solve.cg_iterations == 1);
+      reference = out.v;
+    }
+    Real worst = 0, scale = 0;
+    for (std::size_t i = 0; i < out.v.size(); ++i) {
+      worst = std::max(worst, (out.v[i] - reference[i]).norm());
+      scale = std::max(scale, (out.v[i] - b.state.v[i]).norm());
+    }
+    CHECK(worst < 1e-6 * scale);
+  }
+}
+
 TEST_CASE("dihedral bending gives the same bytes at 1 and 2 threads") {
   for (Integrator integrator : {Integrator::symplectic, Integrator::implicit}) {
     // 60 x 60: 3,600 particles and 10,325 hinges, several blocks of particle_grain each.
@@ -117,27 +166,40 @@ TEST_CASE("dihedral bending gives the same bytes at 1 and 2 threads") {
   }
 }
 
-TEST_CASE("timestep=auto stays below the hinges' explicit bound, which spring bending does not have") {
-  // The strip at 17 columns (a = 6.25 mm, D = 1e-4 N m): backward Euler's own target (0.7 x 20 ms, or the frame)
-  // is far past the hinges' 1 / omega_h, so the hinges choose the step; bend springs leave it at that target.
+TEST_CASE("timestep=auto keeps the explicit integrators below the hinges' bound, and backward Euler past it") {
+  // The strip at 17 columns (a = 6.25 mm, D = 1e-4 N m): symplectic Euler's springs allow far more than the
+  // hinges' 1 / omega_h, so the hinges choose its step; backward Euler, with their Jacobian in its matrix, takes
+  // its own target (0.7 x 20 ms, or the frame) as with bend springs.
   Strip s;
   s.n = 17;
-  BuiltScene b = strip_scene(s, Integrator::implicit);
+  BuiltScene b = strip_scene(s, Integrator::symplectic);
   const Real omega_h = estimate_hinge_omega(b.model, b.state.x);
   REQUIRE(omega_h > 0);
   CHECK(hinge_step_limit(b.model, b.state.x) == doctest::Approx(1 / omega_h).epsilon(1e-15));
+  const StableSteps limits = model_stable_steps(b.model, b.state.x);
+  CHECK(limits.hinges == hinge_step_limit(b.model, b.state.x));
+  MESSAGE("symplectic " << limits.symplectic << " s for the springs, " << limits.hinges << " s for the hinges");
+  CHECK(limits.symplectic > 1.5 * limits.hinges);  // the springs alone would allow 1.8 times more
+  CHECK(stable_step_limit(limits, Integrator::symplectic) == limits.hinges);
   SimOptions o = b.options;
   o.auto_step = true;
   choose_auto_step(b.model, o, b.state.x, "strip");
   CHECK(o.dt <= o.step_safety / omega_h);
   CHECK(o.dt > 0.5 * o.step_safety / omega_h);  // the largest step that divides the frame: at least half
-  MESSAGE("omega_h " << omega_h << " rad/s, auto step " << o.dt << " s");
-  SceneDesc springs = test::grid_scene(s.n, s.rows(), 1, Integrator::implicit);
-  const BuiltScene sb = test::build(springs);
-  CHECK(sb.model.hinge_count == 0);
-  SimOptions so = sb.options;
-  so.auto_step = true;
-  choose_auto_step(sb.model, so, sb.state.x, "springs");
-  CHECK(so.dt == doctest::Approx(std::min(1 / so.fps, so.step_safety * 0.02)));  // a frame, or backward Euler's target
-  CHECK(o.dt < so.dt / 5);
+  MESSAGE("omega_h " << omega_h << " rad/s, symplectic auto step " << o.dt << " s");
+  // validate warns of a fixed step past the hinges' bound, though the springs alone would allow it.
+  SimOptions fixed = b.options;
+  fixed.dt = 0.5 * (limits.hinges + limits.symplectic);
+  const std::string warning = sim::step_warning(fixed, limits);
+  MESSAGE(warning);
+  CHECK(warning.find("exceeds the symplectic Euler limit") != std::string::npos);
+  CHECK(warning.find("dihedral hinges") != std::string::npos);
+  fixed.dt = 0.5 * o.step_safety * limits.hinges;
+  CHECK(sim::step_warning(fixed, limits).empty());
+  BuiltScene ib = strip_scene(s, Integrator::implicit);
+  SimOptions io = ib.options;
+  io.auto_step = true;
+  choose_auto_step(ib.model, io, ib.state.x, "strip");
+  CHECK(io.dt == doctest::Approx(std::min(1 / io.fps, io.step_safety * 0.02)));  // a frame, or backward Euler's target
+  CHECK(io.dt > 5 * o.dt);
 }

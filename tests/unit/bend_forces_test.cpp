@@ -198,3 +198,46 @@ TEST_CASE("the grid's dihedral energy matches D/2 k^2 for cylinders about its ax
   CHECK(cyl_diag == doctest::Approx(1).epsilon(0.01));
   CHECK(twist > 2.5 * 2);
 }
+
+TEST_CASE("at the rest angles the hinges' Gauss-Newton stiffness sum u u^T equals the force's finite-difference Jacobian") {
+  // At theta = theta0 the dropped term (theta - theta0) d^2 theta / dx^2 of each hinge's Hessian is zero, so
+  // K p = sum u (u . p) (build_hinge_jacobians, hinge_row) must be -(f(x + e p) - f(x - e p)) / (2 e) for any p.
+  // The rest mesh is a grid on a cylinder, so the rest angles are not zero.
+  ClothDesc c;
+  c.grid_nx = 6;
+  c.grid_ny = 5;
+  MeshData mesh = make_cloth_grid(c);
+  mesh.positions = on_cylinder(mesh.positions, 0.4);
+  const BuiltScene b = dihedral_cloth(mesh, 2e-3);
+  const Model& m = b.model;
+  REQUIRE(m.hinge_count > 0);
+  const auto n = std::size_t(m.particle_count);
+  std::vector<Vec3> u(4 * std::size_t(m.hinge_count)), scratch(4 * std::size_t(m.hinge_count));
+  build_hinge_jacobians(m, b.state.x, u);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<Real> r(-1, 1);
+  std::vector<Vec3> p(n);
+  for (Vec3& pi : p) pi = Vec3(r(rng), r(rng), r(rng));
+  auto forces = [&](Real eps) {
+    std::vector<Vec3> x = b.state.x, f(n, Vec3::Zero());
+    for (std::size_t i = 0; i < n; ++i) x[i] += eps * p[i];
+    eval_hinges(m, x, scratch, f);
+    return f;
+  };
+  const Real eps = 1e-6;
+  const std::vector<Vec3> plus = forces(eps), minus = forces(-eps);
+  Real worst = 0, scale = 0;
+  for (Index i = 0; i < m.particle_count; ++i) {
+    const Vec3 fd = -(plus[std::size_t(i)] - minus[std::size_t(i)]) / (2 * eps);
+    const Vec3 kp = hinge_row(m, u, i, p);
+    worst = std::max(worst, (fd - kp).norm());
+    scale = std::max(scale, kp.norm());
+  }
+  MESSAGE("largest |K p| " << scale << ", largest difference " << worst);
+  REQUIRE(scale > 0);
+  CHECK(worst / scale < 1e-6);
+  // Its diagonal blocks are the ones hinge_row applies to a vector held on one particle.
+  std::vector<Vec3> one(n, Vec3::Zero());
+  one[7] = Vec3(0.3, -0.5, 0.8);
+  CHECK((hinge_diagonal(m, u, 7) * one[7] - hinge_row(m, u, 7, one)).norm() < 1e-12 * hinge_row(m, u, 7, one).norm());
+}
