@@ -5,7 +5,8 @@ headless, and in clothsim, in one run, on one machine.
 
   blender -b --factory-startup --python-exit-code 1 --python bench/peer_dress.py -- CLOTHSIM_BIN SCRATCH_DIR \
       [--dress PATH] [--seconds 0.5] [--fps 24] [--quality 5] [--tension 15] [--timestep 0.0083333] \
-      [--preconditioners cholesky,multigrid] [--cg-tolerance 1e-3] [--threads 2] [--stiffness N_PER_M]
+      [--preconditioners cholesky,multigrid] [--cg-tolerance 1e-3] [--threads 2] [--stiffness N_PER_M] \
+      [--bendings springs,dihedral] [--bend-modulus 1e-5]
 
 bench/peer_dress.sh wraps it and exits 77 (skipped) where blender or the data are missing. Prints one row per run:
 the step, the wall and CPU seconds, the largest edge strain over the frames (measured the same way on both: the
@@ -44,6 +45,9 @@ ap.add_argument("--timestep", type=float, default=1.0 / 120, help="clothsim step
 ap.add_argument("--preconditioners", default="cholesky,multigrid", help="clothsim runs, comma-separated")
 ap.add_argument("--cg-tolerance", type=float, default=1e-3, help="clothsim implicit: relative CG residual")
 ap.add_argument("--threads", type=int, default=2, help="threads for both")
+ap.add_argument("--bendings", default="springs",
+                help="clothsim bending models, comma-separated: springs (bend=\"0.1\"), dihedral (--bend-modulus)")
+ap.add_argument("--bend-modulus", type=float, default=1e-5, help="bending modulus D of the dihedral runs, N m")
 args = ap.parse_args(argv)
 
 VERTICES, TRIANGLES = 15656, 29456
@@ -114,10 +118,12 @@ def read_obj_positions(path):
         return np.array([[float(t) for t in line.split()[1:4]] for line in f if line.startswith("v ")])
 
 
-def run_clothsim(obj_path, pins, stiffness, preconditioner):
-    out = os.path.join(args.scratch, f"clothsim_{preconditioner}")
-    xml = os.path.join(args.scratch, f"dress_{preconditioner}.xml")
-    stats = os.path.join(args.scratch, f"dress_{preconditioner}_stats.json")
+def run_clothsim(obj_path, pins, stiffness, preconditioner, bending):
+    name = preconditioner if bending == "springs" else f"{preconditioner}_{bending}"
+    out = os.path.join(args.scratch, f"clothsim_{name}")
+    xml = os.path.join(args.scratch, f"dress_{name}.xml")
+    stats = os.path.join(args.scratch, f"dress_{name}_stats.json")
+    bend = 'bend="0.1"' if bending == "springs" else f'bendModulus="{args.bend_modulus!r}"'
     steps_per_frame = max(1, round(1.0 / (fps * args.timestep)))
     with open(xml, "w") as f:
         f.write(f"""<?xml version="1.0"?>
@@ -127,9 +133,9 @@ def run_clothsim(obj_path, pins, stiffness, preconditioner):
               integrator="implicit" cgTolerance="{args.cg_tolerance!r}" preconditioner="{preconditioner}"
               gravity="0 -9.81 0"/>
   <forces><airDamping value="0.1"/></forces>
-  <cloth name="dress" obj="{obj_path}" saveDir="{out}" saveName="dress">
+  <cloth name="dress" obj="{obj_path}" saveDir="{out}" saveName="dress" bending="{bending}">
     <density value="0.2"/>
-    <stiffness value="{stiffness!r}" bend="0.1"/>
+    <stiffness value="{stiffness!r}" {bend}/>
     <damping value="0.1"/>
     <pins vertices="{' '.join(map(str, pins))}"/>
   </cloth>
@@ -140,7 +146,7 @@ def run_clothsim(obj_path, pins, stiffness, preconditioner):
     for frame in range(2, 2 + frames):
         worst = max(worst, edge_strain(read_obj_positions(os.path.join(out, f"dress.{frame:04d}.obj")), EDGES, REST))
     fr = st["frames"]
-    return dict(peer=f"clothsim {preconditioner}", step=st["dt"], steps=st["steps"], wall=wall, cpu=cpu,
+    return dict(peer=f"clothsim {name}", step=st["dt"], steps=st["steps"], wall=wall, cpu=cpu,
                 max_strain=worst, cg=st.get("cg_iterations", 0) / max(1, st["steps"]),
                 factorizations=sum(f.get("factorizations", 0) for f in fr), failed=st.get("implicit_failed_steps", 0))
 
@@ -152,14 +158,15 @@ REST = np.linalg.norm(verts[EDGES[:, 1]] - verts[EDGES[:, 0]], axis=1)
 area = 0.5 * np.linalg.norm(np.cross(verts[tris[:, 1]] - verts[tris[:, 0]], verts[tris[:, 2]] - verts[tris[:, 0]]),
                             axis=1).sum()
 stiffness = args.stiffness or args.tension / REST.mean()
-runs = [run_clothsim(obj_path, pins, stiffness, p) for p in args.preconditioners.split(",") if p]
+runs = [run_clothsim(obj_path, pins, stiffness, p, b) for b in args.bendings.split(",") if b
+        for p in args.preconditioners.split(",") if p]
 bl = run_blender(verts, tris, pins, 0.2 * area)
 print(f"knife-pleat dress: {len(verts)} vertices, {len(tris)} triangles, {pieces} pieces, {len(pins)} pinned; "
       f"{seconds:g} s simulated, {args.threads} threads; Blender quality {args.quality}, tension {args.tension:g} "
       f"(clothsim {stiffness:.4g} N/m a spring, cgTolerance {args.cg_tolerance:g})")
-print(f"{'run':<20} {'step_s':>9} {'steps':>6} {'wall_s':>8} {'cpu_s':>8} {'max_strain':>10} {'cg/step':>8} "
+print(f"{'run':<26} {'step_s':>9} {'steps':>6} {'wall_s':>8} {'cpu_s':>8} {'max_strain':>10} {'cg/step':>8} "
       f"{'factor':>6} {'failed':>6} {'blender_wall/run':>16} {'blender_cpu/run':>15}")
 for r in runs + [bl]:
-    print(f"{r['peer']:<20} {r['step']:>9.4g} {r['steps']:>6d} {r['wall']:>8.3f} {r['cpu']:>8.3f} "
+    print(f"{r['peer']:<26} {r['step']:>9.4g} {r['steps']:>6d} {r['wall']:>8.3f} {r['cpu']:>8.3f} "
           f"{r['max_strain']:>10.4f} {r.get('cg', 0):>8.1f} {r.get('factorizations', 0):>6d} {r.get('failed', 0):>6d} "
           f"{bl['wall'] / r['wall']:>16.2f} {bl['cpu'] / r['cpu']:>15.2f}")
