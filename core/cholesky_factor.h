@@ -1,6 +1,7 @@
 #pragma once
 // The sparse Cholesky factorisation of the implicit step's matrix (preconditioner="cholesky"): the matrix's
-// pattern is fixed for the run (one 3x3 block per particle, per spring, per pair of a stitch's particles and per pair of a hinge's), so the fill-reducing ordering and
+// pattern is fixed for the run (one 3x3 block per particle, per spring, per pair of a stitch's particles and per
+// pair of a hinge's), so the fill-reducing ordering and
 // the symbolic factorisation are computed once when the workspace is made, and each refactorisation is numeric
 // only (Davis 2006, "Direct Methods for Sparse Linear Systems", ch. 4 and 7). The ordering is approximate
 // minimum degree (Amestoy, Davis & Duff 1996) on the particle graph, applied to whole 3x3 blocks, so a block's
