@@ -35,9 +35,10 @@ inline Vec3 apply_particle_block(const Model& m, Index i, Real mass, Real h, con
   return q;
 }
 
-// Row i of A p, gathered over the particle's incident springs (no scatter); p must be zero on pinned particles,
-// so their columns drop out. x are the positions the springs are linearised about (the recompute layout). The
-// layout is a template argument: callers choose it once, outside their loops over particles and springs.
+// Row i of A p without the stitches and hinges (add_extra_row below), gathered over the particle's incident springs
+// (no scatter); p must be zero on pinned particles, so their columns drop out. x are the positions the springs are
+// linearised about (the recompute layout). The layout is a template argument: callers choose it once, outside
+// their loops over particles and springs.
 template <ImplicitLayout Layout>
 inline Vec3 system_row(const Model& m, std::span<const Vec3> x, Real h, const Workspace& ws, std::span<const Vec3> p,
                        Index i) {
@@ -54,7 +55,15 @@ inline Vec3 system_row(const Model& m, std::span<const Vec3> x, Real h, const Wo
       sum += spring_system_block(jac, h) * (p[i] - p[j]);
     }
   }
-  // Stitches: their c c^T (x) (h Kv + h^2 Kx) blocks (systems/stitch_forces.h).
+  return sum;
+}
+
+// The stitches' and hinges' part of row i of A p: their c c^T (x) (h Kv + h^2 Kx) blocks (systems/stitch_forces.h)
+// and h^2 u u^T (systems/bend_forces.h). Apart from system_row so that the products of a model with neither test
+// for them once, not in every row.
+inline bool has_extra_terms(const Model& m) { return m.stitch_count > 0 || m.hinge_count > 0; }
+// Adds them to sum, row i's other terms, in the order the row always summed them (the same bytes).
+inline Vec3 add_extra_row(const Model& m, Real h, const Workspace& ws, std::span<const Vec3> p, Index i, Vec3 sum) {
   if (m.stitch_count > 0) sum += stitch_row(m, ws, i, p);
   if (m.hinge_count > 0) sum += (h * h) * hinge_row(m, ws.hinge_jac, i, p);
   return sum;
@@ -70,9 +79,15 @@ inline void with_layout(ImplicitLayout layout, Body&& body) {
 // q = A p over all particles; pinned rows are zero.
 inline void apply_system(const Model& m, std::span<const Vec3> x, Real h, ImplicitLayout layout, const Workspace& ws,
                          std::span<const Vec3> p, std::span<Vec3> q) {
-  with_layout(layout, [&](auto l) {
-    parallel_over(m.particle_count, particle_grain, [&](Index i) {
-      q[i] = m.particle_inv_mass[i] > 0 ? system_row<l()>(m, x, h, ws, p, i) : Vec3(Vec3::Zero());
+  const bool extras = has_extra_terms(m);
+  with_layout(layout, [&, extras](auto l) {
+    parallel_over(m.particle_count, particle_grain, [&, extras](Index i) {
+      if (!(m.particle_inv_mass[i] > 0)) {
+        q[i] = Vec3::Zero();
+        return;
+      }
+      const Vec3 row = system_row<l()>(m, x, h, ws, p, i);
+      q[i] = extras ? add_extra_row(m, h, ws, p, i, row) : row;
     });
   });
 }

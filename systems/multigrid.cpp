@@ -30,7 +30,11 @@ struct FineLevel {
   const Workspace& ws;
   Index size() const { return m.particle_count; }
   bool active(Index i) const { return m.particle_inv_mass[i] > 0; }
-  Vec3 row(std::span<const Vec3> p, Index i) const { return system_row<Layout>(m, x, h, ws, p, i); }
+  bool extras = has_extra_terms(m);
+  Vec3 row(std::span<const Vec3> p, Index i) const {
+    const Vec3 r = system_row<Layout>(m, x, h, ws, p, i);
+    return extras ? add_extra_row(m, h, ws, p, i, r) : r;
+  }
   const Sym3& diag_inv(Index i) const { return ws.cg_precond[i]; }
 };
 
