@@ -9,6 +9,7 @@
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
 
+#include "core/hinges.h"
 #include "core/model.h"
 
 namespace clothsim {
@@ -55,7 +56,7 @@ void for_each_coupled_pair(const Model& m, Pair&& pair) {
         if (p[k] != p[l]) pair(p[k], p[l]);
   }
   for (Index h = 0; h < m.hinge_count; ++h) {
-    const Index p[4] = {m.hinge_o1[h], m.hinge_o2[h], m.hinge_e0[h], m.hinge_e1[h]};
+    const std::array<Index, 4> p = hinge_particles(m, h);
     for (int k = 0; k < 4; ++k)
       for (int l = k + 1; l < 4; ++l) pair(p[k], p[l]);
   }

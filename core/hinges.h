@@ -3,16 +3,22 @@
 // interior manifold edge e0-e1 with the two vertices o1, o2 opposite it, its rest angle and its stiffness. The
 // energy of a hinge is E = k (theta - theta0)^2 with k = (D / 6) 3 |e|^2 / (A1 + A2) from the rest mesh
 // (docs/model.md derives the 1/6: a cylinder of radius R then stores D / (2 R^2) per unit area).
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <span>
 
 #include "core/math.h"
+#include "core/model.h"
 
 namespace clothsim {
 
-struct Model;
 struct Topology;
+
+// Hinge h's particles in slot order: o1, o2, e0, e1 (the order of particle_hinge_index's slots).
+inline std::array<Index, 4> hinge_particles(const Model& m, Index h) {
+  return {m.hinge_o1[h], m.hinge_o2[h], m.hinge_e0[h], m.hinge_e1[h]};
+}
 
 // Hinge geometry in Bridson et al.'s (2003, §4.1) naming: x1 = o1, x2 = o2, x3 = e0, x4 = e1, the edge
 // E = x4 - x3, and the two triangles' area normals N1 = (x1 - x3) x (x1 - x4), N2 = (x2 - x4) x (x2 - x3)

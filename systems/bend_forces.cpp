@@ -45,7 +45,7 @@ Real hinge_potential_energy(const Model& m, std::span<const Vec3> x) {
 Real estimate_hinge_omega(const Model& m, std::span<const Vec3> x) {
   Real largest = 0;
   for (Index h = 0; h < m.hinge_count; ++h) {
-    const Index p[4] = {m.hinge_o1[h], m.hinge_o2[h], m.hinge_e0[h], m.hinge_e1[h]};
+    const std::array<Index, 4> p = hinge_particles(m, h);
     const HingeFrame fr = hinge_frame(x[p[0]], x[p[1]], x[p[2]], x[p[3]]);
     if (!hinge_live(fr)) continue;
     const auto g = hinge_angle_gradient(x[p[0]], x[p[1]], x[p[2]], x[p[3]], fr);

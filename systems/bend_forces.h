@@ -66,8 +66,8 @@ inline void for_each_hinge_of(const Model& m, Index i, Fn&& fn) {
 // u . p over one hinge's four particles.
 inline Real hinge_combine(const Model& m, std::span<const Vec3> u, Index hinge, std::span<const Vec3> p) {
   const std::size_t b = 4 * std::size_t(hinge);
-  return u[b].dot(p[m.hinge_o1[hinge]]) + u[b + 1].dot(p[m.hinge_o2[hinge]]) + u[b + 2].dot(p[m.hinge_e0[hinge]]) +
-         u[b + 3].dot(p[m.hinge_e1[hinge]]);
+  const std::array<Index, 4> q = hinge_particles(m, hinge);
+  return u[b].dot(p[q[0]]) + u[b + 1].dot(p[q[1]]) + u[b + 2].dot(p[q[2]]) + u[b + 3].dot(p[q[3]]);
 }
 // Row i of K = sum of u u^T times p, and its diagonal block: (K p)_i = sum over i's hinges of u_i (u . p).
 inline Vec3 hinge_row(const Model& m, std::span<const Vec3> u, Index i, std::span<const Vec3> p) {
@@ -75,13 +75,13 @@ inline Vec3 hinge_row(const Model& m, std::span<const Vec3> u, Index i, std::spa
   for_each_hinge_of(m, i, [&](Index h, int slot) { sum += hinge_combine(m, u, h, p) * u[4 * std::size_t(h) + slot]; });
   return sum;
 }
-inline Sym3 hinge_diagonal(const Model& m, std::span<const Vec3> u, Index i) {
+inline Mat3 hinge_diagonal(const Model& m, std::span<const Vec3> u, Index i) {
   Mat3 d = Mat3::Zero();
   for_each_hinge_of(m, i, [&](Index h, int slot) {
     const Vec3& ui = u[4 * std::size_t(h) + slot];
     d += ui * ui.transpose();
   });
-  return Sym3::from(d);
+  return d;
 }
 
 // Total bending energy sum k (theta - theta0)^2, J, summed in a fixed order.

@@ -52,7 +52,7 @@ void factor_now(const Model& m, Real h, Workspace& ws) {
   }
   // Hinges: h^2 u_k u_l^T between their particles k, l (systems/bend_forces.h), as in the CG's product.
   for (Index hg = 0; hg < m.hinge_count; ++hg) {
-    const Index p[4] = {m.hinge_o1[hg], m.hinge_o2[hg], m.hinge_e0[hg], m.hinge_e1[hg]};
+    const std::array<Index, 4> p = hinge_particles(m, hg);
     const Vec3* u = &ws.hinge_jac[4 * std::size_t(hg)];
     for (int k = 0; k < 4; ++k) {
       if (!(m.particle_inv_mass[p[k]] > 0)) continue;

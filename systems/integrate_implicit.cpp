@@ -60,7 +60,7 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
     }
     // Hinges: h^2 sum u_i u_i^T, and -sum u_i (u . v) (systems/bend_forces.h).
     if (m.hinge_count > 0) {
-      block += Sym3::from((h * h) * hinge_diagonal(m, ws.hinge_jac, i).full());
+      block += Sym3::from((h * h) * hinge_diagonal(m, ws.hinge_jac, i));
       if (first) kv -= hinge_row(m, ws.hinge_jac, i, v);
     }
     ws.cg_precond[i] = Sym3::from(block.full().inverse());  // symmetric up to round-off: its lower triangle

@@ -59,7 +59,8 @@ Real tip_deflection(const Strip& s, Integrator integrator, Real seconds, Real st
   BuiltScene b = strip_scene(s, integrator);
   const Model& m = b.model;
   const Real omega = std::hypot(estimate_omega_max(m, b.state.x), 2 * estimate_hinge_omega(m, b.state.x));
-  const Real h = step_size > 0 ? step_size : integrator == Integrator::euler ? 0.5 * m.air_damping / (omega * omega) : 0.5 / omega;
+  const Real bound = integrator == Integrator::euler ? 0.5 * m.air_damping / (omega * omega) : 0.5 / omega;
+  const Real h = step_size > 0 ? step_size : bound;
   const auto steps = std::int64_t(std::ceil(seconds / h));
   Workspace ws = make_workspace(m, b.options);
   State scratch = b.state;
