@@ -233,6 +233,9 @@ struct CollisionScratch {
   std::vector<std::int32_t> acc_hold_count;
   std::vector<Vec3> filter_normal;
   std::vector<Real> held_impulse, held_rhs;
+  // n . x of each particle the collide stage left on a collider, n its contact's normal: the plane the strain
+  // limit after the collide stage keeps it in front of (systems/strain_limit.h; particle_count, with the filter).
+  std::vector<Real> contact_offset;
   // The pairs of the latest detection pass (systems/collision/contacts.h): [0, contact_count) of a buffer that
   // grows to the most one pass has found
   std::vector<Contact> contacts;

@@ -61,12 +61,18 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
   if (measure) result.travel = largest_move(in.x, out.x);
   apply_attachments(model, ws.collision, in, out, h);
   if (model.stitch_count > 0) apply_stitch_limit(model, ws.stitch_rest, out, h, in.time + h);
-  // Collisions end the step (Bridson et al. 2002 §7): the strain limit's projections move particles without
-  // looking at contacts, so run after collisions they could drag cloth back into a body or another layer.
   if (model.strain_limited) {
-    result.counts.strain_sweeps = apply_strain_limit(model, out, h);
+    int sweeps = apply_strain_limit(model, out, h);
+    result.counts.strain_sweeps = sweeps;
+    // The strain limit reopens gaps the stitch pass closed where a seam's panels are short of their partners;
+    // alternating the two passes settles both (docs/garments.md, "Stitches and the strain limit").
+    for (int round = 1; round < stitch_strain_rounds && model.stitch_count > 0; ++round) {
+      if (apply_stitch_limit(model, ws.stitch_rest, out, h, in.time + h) == 0) break;
+      sweeps = apply_strain_limit(model, out, h);
+      result.counts.strain_sweeps += sweeps;
+    }
     // Springs left past maxStrain after the last sweep: the step did not do what the scene asked.
-    if (result.counts.strain_sweeps >= strain_limit_max_iterations && !strain_limit_met(model, out.x)) {
+    if (sweeps >= strain_limit_max_iterations && !strain_limit_met(model, out.x)) {
       result.failed = true;
       result.strain_limit_exhausted = true;
     }
@@ -74,6 +80,12 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
   if (measure) result.strain_before_collide = max_spring_strain(model, out.x);
   const auto t1 = clock::now();
   const CollideCounts collided = collide(model, in, out, ws, h);
+  // The collide stage pushes single vertices out of a collider and stretches their springs; the strain limit
+  // then pulls the neighbours after them, keeping every collider contact in front of its contact plane. Only the
+  // collider contacts are held, so this runs where the collide stage records them (the implicit solve's contact
+  // filter); a spring the contacts alone hold stretched (a pinch) is left for the step control to judge.
+  if (!ws.collision.contact_offset.empty())
+    result.counts.strain_sweeps += apply_strain_limit_on_contacts(model, out, h, ws.collision.contact_offset);
   // The colliders' positions over the step, as the collide stage placed them.
   if (measure)
     result.travel = std::max(result.travel, largest_move(ws.collision.collider_x0, ws.collision.collider_x1));

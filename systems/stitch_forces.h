@@ -34,6 +34,10 @@ namespace clothsim {
 inline constexpr Real stitch_tolerance = 5e-4;
 inline constexpr Real stitch_clamped_tolerance = 1e-6;
 inline constexpr int stitch_max_iterations = 100;
+// Rounds of the stitch pass and the strain limit a step alternates while the stitch pass still moves a gap (the
+// strain limit reopens gaps whose panels are short of their partners): on the mannequin sewing, 10 rounds leave
+// 75 stitches over 1 mm against 118 with one (docs/garments.md).
+inline constexpr int stitch_strain_rounds = 10;
 // The most a thread speeds up or slows down the closing of its gap, m/s^2: a seam starts closing, catches up
 // after a contact lets it go, and comes to rest at its partner over a few centimetres, not in one step (which
 // would jerk its whole panel to sewSpeed and stretch the cloth round the seam by tens of percent).

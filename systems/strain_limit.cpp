@@ -88,7 +88,11 @@ bool strain_limit_met(const Model& m, std::span<const Vec3> x) {
   return strain_limit_excess(m, x) <= 0.5 * strain_limit_tolerance;
 }
 
-int apply_strain_limit(const Model& m, State& out, Real h) {
+namespace {
+
+// The sweeps of apply_strain_limit, each followed by after_sweep(out).
+template <class AfterSweep>
+int limit_strain(const Model& m, State& out, Real h, AfterSweep&& after_sweep) {
   // Stop a little inside the guarantee so the last sweep's round-off cannot cross it (strain_limit_met).
   const Real stop = 0.5 * strain_limit_tolerance;
   if (strain_limit_met(m, out.x)) return 0;
@@ -99,12 +103,32 @@ int apply_strain_limit(const Model& m, State& out, Real h) {
   while (!done && it < strain_limit_max_iterations) {
     // The first sweep projects exactly: a spring stretched alone ends at its limit, not past it.
     const Real met = sweep(m, out, h, it == 0 ? 1 : strain_limit_relaxation);
+    after_sweep(out);
     ++it;
     // The read-only check of the end state decides; it runs after the first sweep (one sweep is often enough)
     // and after any sweep that met no spring past the stop, so most steps check once or twice, not every sweep.
     done = (it == 1 || met <= stop) && strain_limit_met(m, out.x);
   }
   return it;
+}
+
+}  // namespace
+
+int apply_strain_limit(const Model& m, State& out, Real h) {
+  return limit_strain(m, out, h, [](State&) {});
+}
+
+int apply_strain_limit_on_contacts(const Model& m, State& out, Real h, std::span<Real> offset) {
+  if (strain_limit_met(m, out.x)) return 0;
+  const std::vector<ContactHold>& contact = out.contact;
+  parallel_over(m.particle_count, particle_grain, [&](Index i) { offset[i] = contact[i].normal.dot(out.x[i]); });
+  return limit_strain(m, out, h, [&](State& s) {
+    parallel_over(m.particle_count, particle_grain, [&](Index i) {
+      const Vec3& n = contact[i].normal;
+      const Real behind = offset[i] - n.dot(s.x[i]);
+      if (behind > 0) displace(s, i, behind * n, h);
+    });
+  });
 }
 
 }  // namespace clothsim

@@ -11,6 +11,7 @@
 #include "systems/auto_step.h"
 #include "systems/diagnostics.h"
 #include "systems/spring_forces.h"
+#include "systems/strain_limit.h"
 #include "systems/step.h"
 #include "tests/support/collision_scene.h"
 #include "tests/support/scene_fixtures.h"
@@ -301,7 +302,7 @@ TEST_CASE("auto: the strain limit's corrections in a pierced sheet do not count 
   // The needle's sheet as an OBJ whose rest mesh is 0.8 times its size, with maxStrain 0.1: every spring starts 25%
   // long, and the strain limit moves a particle by 2.1 cm in the first step, more than a quarter of
   // the 4 cm thickness, whatever the step. The cloth's own motion (h |v| from the integrator) is far smaller,
-  // so the needle's push is the collide stage's alone and is kept at once, as against the plain sheet.
+  // so the step is kept whole, as against the plain sheet.
   const auto dir = scratch_dir("auto_limit_travel_sheet");
   auto grid = [](Real s) {
     std::string text;
@@ -349,10 +350,13 @@ TEST_CASE("auto: the strain limit's corrections in a pierced sheet do not count 
   state = b.state;
   ws = make_workspace(b.model, b.options);
   REQUIRE(stepper.advance_frame(b.model, b.options, state, scratch, ws, r));
+  // The whole step is kept, not halved for travel the cloth did not make. The needle's push no longer fails it:
+  // the strain limit after the collide stage pulls the pushed particle's neighbours after it (before that pass,
+  // this step was kept and reported with the strain jumping past 0.1).
   CHECK(r.rejected == 0);
-  REQUIRE(r.failed == 1);
-  CHECK(r.first_failure.step == doctest::Approx(b.options.dt));
-  CHECK(r.first_failure.strain_after > r.first_failure.strain_before + FrameStepper::strain_jump);
+  CHECK(r.taken == 1);
+  CHECK(r.failed == 0);
+  CHECK(max_spring_strain(b.model, state.x) <= 0.1 + strain_limit_tolerance);
 }
 
 TEST_CASE("auto: a collide-stage jump that moving colliders still make at minTimestep is kept, not a stop") {

@@ -313,3 +313,44 @@ TEST_CASE("a limit the chain cannot meet stops at the sweep cap and is reported 
   CHECK(apply_strain_limit(ok.model, ok.state, 0.1) < strain_limit_max_iterations);
   CHECK(strain_limit_met(ok.model, ok.state.x));
 }
+
+TEST_CASE("after the collide stage a contact stays in front of its plane and its neighbours come to it") {
+  // A free chain of two springs (rest 1, maxStrain 0.1) with its middle particle lifted 0.5 off the line, as a
+  // contact push leaves it: both springs 11.8 % long. Held on its plane y >= 0.5 (contact normal +y), the middle
+  // stays there and the ends come up to it; the plain limit pulls the middle back down instead.
+  BuiltScene b = chain(2, 1.0, 0.1, false);
+  b.state.x[1].y() = 0.5;
+  const Real h = 0.01;
+  State plain = b.state;
+  apply_strain_limit(b.model, plain, h);
+  CHECK(plain.x[1].y() < 0.49);
+
+  State held = b.state;
+  held.contact.assign(3, ContactHold{});
+  held.contact[1].normal = Vec3(0, 1, 0);
+  std::vector<Real> offset(3);
+  const int sweeps = apply_strain_limit_on_contacts(b.model, held, h, offset);
+  CHECK(sweeps > 0);
+  CHECK(sweeps < strain_limit_max_iterations);
+  CHECK(offset[1] == 0.5);
+  CHECK(held.x[1].y() >= 0.5);
+  CHECK(held.x[1].y() == doctest::Approx(0.5).epsilon(1e-12));
+  // Each end comes up its spring to the limit's 1.1: 0.018 along a spring of slope 0.5, about 0.008 in y.
+  CHECK(held.x[0].y() > 0.007);
+  CHECK(held.x[2].y() > 0.007);
+  CHECK(max_spring_strain(b.model, held.x) <= 0.1 + strain_limit_tolerance);
+  for (Index i = 0; i < 3; ++i)  // velocities moved with positions: x' = x + h v' still holds
+    CHECK((held.x[i] - b.state.x[i] - h * (held.v[i] - b.state.v[i])).norm() < 1e-12);
+}
+
+TEST_CASE("a spring whose two ends are held apart by their contacts stops at the sweep cap, unmet") {
+  // A pinch: particle 0 may only move in -x, particle 1 only in +x, and their spring is 20 % long.
+  BuiltScene b = chain(1, 1.2, 0.1, false);
+  b.state.contact.assign(2, ContactHold{});
+  b.state.contact[0].normal = Vec3(-1, 0, 0);
+  b.state.contact[1].normal = Vec3(1, 0, 0);
+  std::vector<Real> offset(2);
+  CHECK(apply_strain_limit_on_contacts(b.model, b.state, 0.01, offset) == strain_limit_max_iterations);
+  CHECK(max_spring_strain(b.model, b.state.x) == doctest::Approx(0.2).epsilon(1e-12));
+  CHECK_FALSE(strain_limit_met(b.model, b.state.x));
+}
