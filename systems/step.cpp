@@ -25,6 +25,25 @@ Real largest_move(std::span<const Vec3> from, std::span<const Vec3> to) {
       [](Real a, Real b) { return std::max(a, b); });
 }
 
+// Runs limit() (a strain limit returning its sweeps), then, while the stitch pass still moves a gap, the stitch
+// pass and limit() again, up to `rounds` rounds: the strain limit reopens gaps the stitch pass closed
+// where a seam's panels are short of their partners, and alternating settles both (docs/garments.md, "Sewing").
+// Adds every round's sweeps to total; returns the last limit's.
+template <class Limit>
+int limit_with_stitches(const Model& model, Workspace& ws, State& out, Real h, Real t, std::int64_t& total, int rounds,
+                        Limit&& limit) {
+  int sweeps = limit();
+  total += sweeps;
+  // A limit that stopped at its cap (contacts pinching a spring) will not do better in another round.
+  for (int round = 1; round < rounds && model.stitch_count > 0 && sweeps < strain_limit_max_iterations;
+       ++round) {
+    if (apply_stitch_limit(model, ws.stitch_rest, out, h, t) == 0) break;
+    sweeps = limit();
+    total += sweeps;
+  }
+  return sweeps;
+}
+
 }  // namespace
 
 StepResult step(const Model& model, const SimOptions& options, const State& in, State& out, Workspace& ws, Real h) {
@@ -60,17 +79,11 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
   const bool measure = options.auto_step && model.collision.enabled;
   if (measure) result.travel = largest_move(in.x, out.x);
   apply_attachments(model, ws.collision, in, out, h);
-  if (model.stitch_count > 0) apply_stitch_limit(model, ws.stitch_rest, out, h, in.time + h);
+  const Real t = in.time + h;
+  if (model.stitch_count > 0) apply_stitch_limit(model, ws.stitch_rest, out, h, t);
   if (model.strain_limited) {
-    int sweeps = apply_strain_limit(model, out, h);
-    result.counts.strain_sweeps = sweeps;
-    // The strain limit reopens gaps the stitch pass closed where a seam's panels are short of their partners;
-    // alternating the two passes settles both (docs/garments.md, "Stitches and the strain limit").
-    for (int round = 1; round < stitch_strain_rounds && model.stitch_count > 0; ++round) {
-      if (apply_stitch_limit(model, ws.stitch_rest, out, h, in.time + h) == 0) break;
-      sweeps = apply_strain_limit(model, out, h);
-      result.counts.strain_sweeps += sweeps;
-    }
+    const int sweeps = limit_with_stitches(model, ws, out, h, t, result.counts.strain_sweeps, stitch_strain_rounds,
+                                           [&] { return apply_strain_limit(model, out, h); });
     // Springs left past maxStrain after the last sweep: the step did not do what the scene asked.
     if (sweeps >= strain_limit_max_iterations && !strain_limit_met(model, out.x)) {
       result.failed = true;
@@ -81,11 +94,16 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
   const auto t1 = clock::now();
   const CollideCounts collided = collide(model, in, out, ws, h);
   // The collide stage pushes single vertices out of a collider and stretches their springs; the strain limit
-  // then pulls the neighbours after them, keeping every collider contact in front of its contact plane. Only the
-  // collider contacts are held, so this runs where the collide stage records them (the implicit solve's contact
-  // filter); a spring the contacts alone hold stretched (a pinch) is left for the step control to judge.
-  if (!ws.collision.contact_offset.empty())
-    result.counts.strain_sweeps += apply_strain_limit_on_contacts(model, out, h, ws.collision.contact_offset);
+  // then pulls the neighbours after them, keeping every collider contact in front of its contact plane, and
+  // alternates with the stitch pass as before, for fewer rounds. Only collider contacts are held, so this runs
+  // where the collide stage records them (the implicit solve's contact filter); a spring the contacts alone hold
+  // stretched (a pinch) is left for the step control to judge.
+  if (!ws.collision.contact_offset.empty()) {
+    const std::span<Real> planes = ws.collision.contact_offset;
+    set_contact_planes(model, out, planes);
+    limit_with_stitches(model, ws, out, h, t, result.counts.strain_sweeps, stitch_strain_rounds_after_collide,
+                        [&] { return apply_strain_limit_on_contacts(model, out, h, planes); });
+  }
   // The colliders' positions over the step, as the collide stage placed them.
   if (measure)
     result.travel = std::max(result.travel, largest_move(ws.collision.collider_x0, ws.collision.collider_x1));

@@ -38,6 +38,10 @@ inline constexpr int stitch_max_iterations = 100;
 // strain limit reopens gaps whose panels are short of their partners): on the mannequin sewing, 10 rounds leave
 // 75 stitches over 1 mm against 118 with one (docs/garments.md).
 inline constexpr int stitch_strain_rounds = 10;
+// The same after the collide stage, where the strain limit holds the collider contacts on their planes and each
+// round costs more sweeps: on the Rumba, 3 rounds leave a median 109 stitches over 1 mm a frame at 1.5 s a frame,
+// 10 rounds 87 at 2.2-2.7 s, 1 round 154 at 1.3 s (docs/garments.md).
+inline constexpr int stitch_strain_rounds_after_collide = 3;
 // The most a thread speeds up or slows down the closing of its gap, m/s^2: a seam starts closing, catches up
 // after a contact lets it go, and comes to rest at its partner over a few centimetres, not in one step (which
 // would jerk its whole panel to sewSpeed and stretch the cloth round the seam by tens of percent).

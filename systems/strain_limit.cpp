@@ -118,17 +118,20 @@ int apply_strain_limit(const Model& m, State& out, Real h) {
   return limit_strain(m, out, h, [](State&) {});
 }
 
-int apply_strain_limit_on_contacts(const Model& m, State& out, Real h, std::span<Real> offset) {
-  if (strain_limit_met(m, out.x)) return 0;
-  const std::vector<ContactHold>& contact = out.contact;
-  parallel_over(m.particle_count, particle_grain, [&](Index i) { offset[i] = contact[i].normal.dot(out.x[i]); });
-  return limit_strain(m, out, h, [&](State& s) {
+void set_contact_planes(const Model& m, const State& out, std::span<Real> offset) {
+  parallel_over(m.particle_count, particle_grain, [&](Index i) { offset[i] = out.contact[i].normal.dot(out.x[i]); });
+}
+
+int apply_strain_limit_on_contacts(const Model& m, State& out, Real h, std::span<const Real> offset) {
+  const auto onto_planes = [&](State& s) {
     parallel_over(m.particle_count, particle_grain, [&](Index i) {
-      const Vec3& n = contact[i].normal;
+      const Vec3& n = s.contact[i].normal;
       const Real behind = offset[i] - n.dot(s.x[i]);
       if (behind > 0) displace(s, i, behind * n, h);
     });
-  });
+  };
+  onto_planes(out);  // a stitch pass since set_contact_planes may have moved a contact behind its plane
+  return limit_strain(m, out, h, onto_planes);
 }
 
 }  // namespace clothsim

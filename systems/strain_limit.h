@@ -33,13 +33,15 @@ Real strain_limit_excess(const Model& model, std::span<const Vec3> x);
 int apply_strain_limit(const Model& model, State& out, Real h);
 
 // The strain limit again after the collide stage, which pushes single vertices out of a collider and stretches
-// their springs past maxStrain: the same sweeps, but after each one every particle the collide stage left on a
-// collider (out.contact's normal n nonzero) is put back in front of its contact plane n . x >= offset, with
-// offset = n . x where the collide stage left it. A contact may slide along its collider, not into it, and its
-// neighbours are pulled to it rather than it to them. Nothing happens when the limit is met. Fills
-// contact_offset (particle_count); returns the sweeps taken. Where the contacts themselves hold a spring past
-// its limit (cloth pinched between two colliders), the sweeps stop at strain_limit_max_iterations unmet.
-int apply_strain_limit_on_contacts(const Model& model, State& out, Real h, std::span<Real> contact_offset);
+// their springs past maxStrain. set_contact_planes records, for every particle the collide stage left on a
+// collider (out.contact's normal n nonzero), its plane offset n . x (contact_offset, particle_count).
+// apply_strain_limit_on_contacts first puts every such particle back in front of its plane n . x >= offset, then
+// runs the strain limit's sweeps with the same projection after each: a contact may slide along its collider, not
+// into it, and its neighbours are pulled to it rather than it to them. Velocities move with positions. Returns the
+// sweeps taken (0 when the limit was met). Where the contacts themselves hold a spring past its limit (cloth
+// pinched between two colliders), the sweeps stop at strain_limit_max_iterations unmet.
+void set_contact_planes(const Model& model, const State& out, std::span<Real> contact_offset);
+int apply_strain_limit_on_contacts(const Model& model, State& out, Real h, std::span<const Real> contact_offset);
 
 // Whether every limited spring is within its limit + strain_limit_tolerance / 2: what apply_strain_limit ends
 // with unless it stopped at strain_limit_max_iterations (a limit the cloth cannot meet in one step, or at all).
