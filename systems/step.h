@@ -1,7 +1,8 @@
 #pragma once
 // One time step, built from named stages in the style of MuJoCo's mj_step:
 //   integrate (forces, then explicit Euler | symplectic Euler | RK4 | backward Euler) -> attachments ->
-//   stitch limit -> strain limit -> collide.
+//   (stitch limit <-> strain limit, alternating) -> collide -> (stitch limit <-> strain limit with the collider
+//   contacts held on their planes; implicit with the contact filter only).
 // The steps of a frame, and the checks between them, are sim/frame_stepper.h's.
 #include "core/model.h"
 #include "systems/step_result.h"
