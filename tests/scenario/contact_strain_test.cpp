@@ -66,8 +66,9 @@ struct PinchFrame {
   Index inside = 0;  // sheet vertices inside either box
 };
 
-// Frames 0 (the start) to 12, in order.
-std::vector<PinchFrame> run_pinch(const std::string& name, std::vector<Vec3>* last = nullptr) {
+// Frames 0 (the start) to 12, in order, with at most `threads` worker threads; the last positions in *last.
+std::vector<PinchFrame> run_pinch(const std::string& name, int threads = 2, std::vector<Vec3>* last = nullptr) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   std::vector<PinchFrame> frames;
   test::run_frames(test::load_collision_scene(pinch_scene(name)),
                    [&](int, const Model& m, const State& s, const Workspace& ws) {
@@ -99,14 +100,8 @@ TEST_CASE("a sheet pinched between two boxes keeps maxStrain, and nothing inside
 
 TEST_CASE("the strain limit after the collide stage gives the same bytes at 1 and 2 threads") {
   std::vector<Vec3> one, two;
-  {
-    tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 1);
-    run_pinch("pinch_threads1", &one);
-  }
-  {
-    tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
-    run_pinch("pinch_threads2", &two);
-  }
+  run_pinch("pinch_threads1", 1, &one);
+  run_pinch("pinch_threads2", 2, &two);
   REQUIRE(one.size() == two.size());
   CHECK(std::memcmp(one.data(), two.data(), one.size() * sizeof(Vec3)) == 0);
 }
