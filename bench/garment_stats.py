@@ -1,8 +1,7 @@
 #!/usr/bin/env python3
 """Per-frame figures of a sewn garment run (docs/garments.md): the largest edge strain against the rest mesh, the
-edges past a strain limit (by more than
-clothsim's strain-limit tolerance, 1e-3), the stitches whose gap is over 1 mm and the widest gap, and optionally the garment
-vertices inside the body. The rest mesh is the OBJ that holds the stitch records (Codim-IPC's stage); the frames
+edges past a strain limit (by more than clothsim's strain-limit tolerance, 1e-3), the stitches whose gap is over
+1 mm and the widest gap, and optionally the garment vertices inside the body. The rest mesh is the OBJ that holds the stitch records (Codim-IPC's stage); the frames
 are clothsim's written OBJs of the same mesh (their first vertices are the garment's, in the same order).
 
 Usage: bench/garment_stats.py FRAMES_DIR REST.obj [--limit S] [--first N] [--body PATTERN] [--body-after N]
@@ -127,7 +126,14 @@ def main(argv):
     try:
         limit, first, after = float(options["--limit"]), int(options["--first"]), int(options["--body-after"])
     except ValueError:
-        fail("--limit takes a strain (0.15), --first a frame number, --body-after a vertex count")
+        after = -1
+    if after < 0:
+        fail("--limit takes a strain (0.15), --first a frame number, --body-after a vertex count (0 or more)")
+    if options["--body"]:
+        try:
+            import numpy  # noqa: F401  (Body needs it)
+        except ImportError:
+            fail("--body needs numpy (Debian: python3-numpy)")
     try:
         rest, faces, stitches = read_obj(rest_path, True)
     except OSError as e:
@@ -147,9 +153,12 @@ def main(argv):
     frames = [(int(m.group(1)), f) for f in names if (m := re.search(r"(\d+)\.obj$", f)) and int(m.group(1)) >= first]
     if not frames:
         fail(f"{frames_dir}: no frame OBJs numbered {first} or later")
-    rows = []
+    rows, bodies = [], {}
     for number, name in frames:
-        x, _, _ = read_obj(os.path.join(frames_dir, name), False)
+        try:
+            x, _, _ = read_obj(os.path.join(frames_dir, name), False)
+        except OSError as e:
+            fail(f"{e}; expected a readable frame OBJ")
         if len(x) < n:
             fail(f"{name} has {len(x)} vertices; the rest mesh {n}")
         x = x[:n]
@@ -163,14 +172,17 @@ def main(argv):
                 f"{row['past']:4d}  stitches over 1 mm {row['open']:4d}  widest gap {1000 * row['gap']:5.2f} mm")
         if options["--body"]:
             body_path = options["--body"].replace("#", str(number))
-            try:
-                bv, bf, _ = read_obj(body_path, True)
-            except OSError as e:
-                fail(f"{e}; expected the body for frame {number}")
-            bv, bf = bv[after:], [tuple(k - after for k in f) for f in bf if min(f) >= after]
-            if not bf:
-                fail(f"{body_path}: no triangles among vertices {after} and after")
-            row["inside"] = Body(bv, bf).inside_count(x)
+            if body_path not in bodies:  # a static body is read and binned once
+                try:
+                    bv, bf, _ = read_obj(body_path, True)
+                except OSError as e:
+                    fail(f"{e}; expected the body for frame {number}")
+                bv, bf = bv[after:], [tuple(k - after for k in f) for f in bf if min(f) >= after]
+                if not bf or max(max(f) for f in bf) >= len(bv):
+                    fail(f"{body_path}: expected triangles among its vertices {after} and after")
+                bodies.clear()
+                bodies[body_path] = Body(bv, bf)
+            row["inside"] = bodies[body_path].inside_count(x)
             line += f"  inside the body {row['inside']}"
         rows.append(row)
         print(line, flush=True)

@@ -59,6 +59,14 @@ try:
     expect("inside the body", [line.split("inside the body")[1].strip() for line in r.stdout.splitlines()[:2]],
            ["0", "1"])
     expect("inside summary", r.stdout.splitlines()[-1].endswith("vertices inside the body 1 in 1 frames"), True)
+    # The same cube after the garment's 7 vertices and 3 triangles in one file, as in Codim-IPC's drape file.
+    with open(os.path.join(scratch, "both.obj"), "w") as f:
+        f.write("".join(f"v {x} {y} {z}\n" for x, y, z in rest + cube) + faces)
+        f.write("".join(f"f {a + 7} {b + 7} {c + 7}\nf {a + 7} {c + 7} {d + 7}\n" for a, b, c, d in quads))
+    r = run(os.path.join(scratch, "frames"), os.path.join(scratch, "rest.obj"), "--body",
+            os.path.join(scratch, "both.obj"), "--body-after", "7")
+    expect("--body-after", [line.split("inside the body")[1].strip() for line in r.stdout.splitlines()[:2]],
+           ["0", "1"])
 except ImportError:
     print("numpy missing: the body test is skipped")
 
