@@ -236,6 +236,9 @@ struct CollisionScratch {
   // n . x of each particle the collide stage left on a collider, n its contact's normal: the plane the strain
   // limit after the collide stage keeps it in front of (systems/strain_limit.h; particle_count, with the filter).
   std::vector<Real> contact_offset;
+  // The cloth-cloth pairs the collide stage left within the thickness, sorted: the strain limit after the
+  // collide stage keeps each at least as far apart as the stage left it (systems/collision/cloth_holds.h).
+  std::vector<Contact> cloth_holds;
   // The pairs of the latest detection pass (systems/collision/contacts.h): [0, contact_count) of a buffer that
   // grows to the most one pass has found
   std::vector<Contact> contacts;

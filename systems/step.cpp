@@ -5,6 +5,7 @@
 #include <span>
 
 #include "systems/attachments.h"
+#include "systems/collision/cloth_holds.h"
 #include "systems/collision/collide.h"
 #include "systems/forces.h"
 #include "systems/integrate_explicit.h"
@@ -94,15 +95,18 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
   const auto t1 = clock::now();
   const CollideCounts collided = collide(model, in, out, ws, h);
   // The collide stage pushes single vertices out of a collider and stretches their springs; the strain limit
-  // then pulls the neighbours after them, keeping every collider contact in front of its contact plane, and
-  // alternates with the stitch pass as before, for fewer rounds. Only collider contacts are held, so this runs
-  // where the collide stage records them (the implicit solve's contact filter); a spring the contacts alone hold
-  // stretched (a pinch) is left for the step control to judge.
+  // then pulls the neighbours after them, keeping every collider contact in front of its contact plane and every
+  // cloth-cloth pair within the thickness at least as far apart as the stage left it (so that it cannot pull a
+  // seam or a fold through another layer), and alternates with the stitch pass as before, for fewer rounds. This
+  // runs where the collide stage records the collider contacts (the implicit solve's contact filter); a spring
+  // the contacts alone hold stretched (a pinch) is left for the step control to judge.
   if (!ws.collision.contact_offset.empty()) {
-    const std::span<Real> planes = ws.collision.contact_offset;
-    set_contact_planes(model, out, planes);
+    CollisionScratch& s = ws.collision;
+    set_contact_planes(model, out, s.contact_offset);
+    gather_cloth_holds(model, in, out, s);
+    const auto hold = [&](State& held) { apply_cloth_holds(model, held, s, h); };
     limit_with_stitches(model, ws, out, h, t, result.counts.strain_sweeps, stitch_strain_rounds_after_collide,
-                        [&] { return apply_strain_limit_on_contacts(model, out, h, planes); });
+                        [&] { return apply_strain_limit_on_contacts(model, out, h, s.contact_offset, hold); });
   }
   // The colliders' positions over the step, as the collide stage placed them.
   if (measure)

@@ -122,13 +122,15 @@ void set_contact_planes(const Model& m, const State& out, std::span<Real> offset
   parallel_over(m.particle_count, particle_grain, [&](Index i) { offset[i] = out.contact[i].normal.dot(out.x[i]); });
 }
 
-int apply_strain_limit_on_contacts(const Model& m, State& out, Real h, std::span<const Real> offset) {
+int apply_strain_limit_on_contacts(const Model& m, State& out, Real h, std::span<const Real> offset,
+                                   const std::function<void(State&)>& hold) {
   const auto onto_planes = [&](State& s) {
     parallel_over(m.particle_count, particle_grain, [&](Index i) {
       const Vec3& n = s.contact[i].normal;
       const Real behind = offset[i] - n.dot(s.x[i]);
       if (behind > 0) displace(s, i, behind * n, h);
     });
+    if (hold) hold(s);
   };
   onto_planes(out);  // a stitch pass since set_contact_planes may have moved a contact behind its plane
   return limit_strain(m, out, h, onto_planes);

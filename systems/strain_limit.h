@@ -2,6 +2,7 @@
 // Strain limiting (Provot 1995 §5): after the integrator, springs stretched beyond their cloth's maxStrain are
 // pulled back, and the velocities are changed by the same displacement / h, so x' = x + h v' still holds and the
 // next step does not undo the correction. docs/stability.md, "Strain limiting", gives the algorithm and figures.
+#include <functional>
 #include <span>
 
 #include "core/model.h"
@@ -39,9 +40,11 @@ int apply_strain_limit(const Model& model, State& out, Real h);
 // runs the strain limit's sweeps with the same projection after each: a contact may slide along its collider, not
 // into it, and its neighbours are pulled to it rather than it to them. Velocities move with positions. Returns the
 // sweeps taken (0 when the limit was met). Where the contacts themselves hold a spring past its limit (cloth
-// pinched between two colliders), the sweeps stop at strain_limit_max_iterations unmet.
+// pinched between two colliders), the sweeps stop at strain_limit_max_iterations unmet. `hold`, when given, runs
+// after the planes every time they do (the cloth-cloth holds, systems/collision/cloth_holds.h).
 void set_contact_planes(const Model& model, const State& out, std::span<Real> contact_offset);
-int apply_strain_limit_on_contacts(const Model& model, State& out, Real h, std::span<const Real> contact_offset);
+int apply_strain_limit_on_contacts(const Model& model, State& out, Real h, std::span<const Real> contact_offset,
+                                   const std::function<void(State&)>& hold = {});
 
 // Whether every limited spring is within its limit + strain_limit_tolerance / 2: what apply_strain_limit ends
 // with unless it stopped at strain_limit_max_iterations (a limit the cloth cannot meet in one step, or at all).

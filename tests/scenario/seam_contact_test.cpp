@@ -16,28 +16,12 @@ using namespace clothsim;
 
 namespace {
 
-// A scene of one self-colliding mesh cloth of the given thickness, without gravity.
-SceneDesc self_colliding(Real thickness) {
-  SceneDesc s;
-  s.path = "<test>";
-  s.simulation.timestep = 1e-3;
-  s.simulation.fps = 1000;
-  s.simulation.gravity = Vec3::Zero();
-  ClothDesc c;
-  c.name = "panels";
-  c.obj = "<generated>";
-  c.self_collision = true;
-  c.thickness = thickness;
-  s.cloths.push_back(c);
-  return s;
-}
-
 // Panel A: 3 x 3 vertices, 0.2 m square in the plane y = 0 (x, z in [-0.1, 0.1]). Panel B: the same grid tilted
 // down by atan(0.12) about the z axis, its first column at x = 0.08, y = +2 mm, so B's first strip of triangles
 // passes through A's last strip (x in [0, 0.1]) at x = 0.0967. With `sew`, B's first column is stitched to A's
 // last column (vertex to vertex).
 BuiltScene lapped_panels(bool sew) {
-  const SceneDesc s = self_colliding(0.001);
+  const SceneDesc s = test::self_colliding_scene(0.001);
   const MeshData g = make_grid_mesh(3, 3, 0.2, 0.2);
   MeshData mesh = g;
   const Index n = g.vertex_count();
@@ -107,7 +91,7 @@ TEST_CASE("the draped Codim-IPC dress: its intersecting triangle pairs are seams
   REQUIRE(drape.tri_index == stage.tri_index);
   drape.uvs.clear();
   drape.tri_uv.clear();
-  const SceneDesc s = self_colliding(0.003);
+  const SceneDesc s = test::self_colliding_scene(0.003);
   // Without the stitches clothsim's count and an independent check agree on 427 pairs, all within 6 mm of a
   // stitched vertex; with the seams as neighbours none is left.
   MeshData mesh = drape;

@@ -20,6 +20,23 @@ using LoadedCollisionScene = sim::LoadedScene;
 // The scene as `clothsim run` loads it (sim/load_scene.h): meshes, maps, rest shapes, colliders, auto step.
 inline sim::LoadedScene load_collision_scene(const std::filesystem::path& xml) { return sim::load_scene(xml.string()); }
 
+// A scene of one self-colliding mesh cloth (`<generated>`: the test supplies the mesh) of the given thickness,
+// without gravity, 1 ms steps.
+inline SceneDesc self_colliding_scene(Real thickness) {
+  SceneDesc s;
+  s.path = "<test>";
+  s.simulation.timestep = 1e-3;
+  s.simulation.fps = 1000;
+  s.simulation.gravity = Vec3::Zero();
+  ClothDesc c;
+  c.name = "panels";
+  c.obj = "<generated>";
+  c.self_collision = true;
+  c.thickness = thickness;
+  s.cloths.push_back(c);
+  return s;
+}
+
 // The shared data folder beside the checkout (../shared/data), or beside the folder holding it (a worktree under
 // wt/); CLOTHSIM_SHARED_DATA overrides. Empty when absent: the tests that use it then skip.
 inline std::filesystem::path shared_data() {
