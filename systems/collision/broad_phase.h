@@ -14,6 +14,11 @@ namespace clothsim {
 // Which broad phase a walk queries: the scene's hash or BVH, or every prim (the tests' reference).
 enum class BroadMode { hash, bvh, brute };
 
+// The walk the scene's broad phase setting asks for.
+inline BroadMode broad_mode(const CollisionModel& c) {
+  return c.broad_phase == BroadPhase::bvh ? BroadMode::bvh : BroadMode::hash;
+}
+
 // Both sides for the step's collider positions (s.collider_x0, collider_x1) and the cloth's in and out.
 void build_broad_phase(const Model& model, const State& in, const State& out, CollisionScratch& s);
 // The cloth's side alone, after a pass has moved the cloth: swept, thickness-inflated cloth prim boxes, the query

@@ -11,22 +11,15 @@ namespace {
 // Shorter than the held distance by less than this is round-off of an earlier projection, not a move (m).
 constexpr Real hold_slack = 1e-9;
 
-// The pair's four particles and the coefficients of its gap n . sum c_k x_k.
+// The pair's four particles (contact_nodes: all cloth particles for a cloth-cloth pair) and the coefficients of
+// its gap n . sum c_k x_k.
 void hold_terms(const Model& m, const Contact& k, Index p[4], Real c[4]) {
-  const CollisionModel& cm = m.collision;
+  contact_nodes(m, k, p);
   if (k.kind == ContactKind::vertex_triangle) {
-    p[0] = k.a;
     c[0] = 1;
-    for (int j = 0; j < 3; ++j) {
-      p[j + 1] = m.tri_index[3 * k.b + j];
-      c[j + 1] = -k.w[j];
-    }
+    for (int j = 0; j < 3; ++j) c[j + 1] = -k.w[j];
     return;
   }
-  p[0] = cm.edge_a[k.a];
-  p[1] = cm.edge_b[k.a];
-  p[2] = cm.edge_a[k.b];
-  p[3] = cm.edge_b[k.b];
   c[0] = 1 - k.w[0];
   c[1] = k.w[0];
   c[2] = -(1 - k.w[1]);
@@ -40,8 +33,7 @@ void gather_cloth_holds(const Model& m, const State& in, const State& out, Colli
   const CollisionModel& c = m.collision;
   if (!c.cloth_contact || c.prim.empty()) return;
   build_cloth_broad_phase(m, in, out, s);
-  const BroadMode mode = c.broad_phase == BroadPhase::bvh ? BroadMode::bvh : BroadMode::hash;
-  const Index found = find_proximities(m, in, out, s, mode);
+  const Index found = find_proximities(m, in, out, s, broad_mode(c));
   for (Index k = 0; k < found; ++k) {
     const Contact& ct = s.contacts[std::size_t(k)];
     const bool cloth = ct.kind == ContactKind::cloth_edges ||

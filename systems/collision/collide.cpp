@@ -13,10 +13,6 @@
 namespace clothsim {
 namespace {
 
-BroadMode broad_mode(const CollisionModel& c) {
-  return c.broad_phase == BroadPhase::bvh ? BroadMode::bvh : BroadMode::hash;
-}
-
 // One proximity pass's detection and responses into the accumulators (not applied): the analytic colliders, then
 // every pair of the broad phase when there is one.
 void respond_proximity_pass(const Model& m, const State& in, State& out, CollisionScratch& s, Real h) {
