@@ -44,6 +44,7 @@ std::string format_stats(const Model& m, const SimOptions& o, const RunStats& s)
   j.key("frames").begin_array();
   for (const FrameStats& f : s.frames) {
     j.begin_object().field("frame", f.frame).field("max_strain", f.max_strain).field("kinetic_energy", f.kinetic_energy);
+    if (m.strain_limited) j.field("strain_excess", f.strain_excess);
     j.field("steps", f.steps.taken).field("steps_rejected", f.steps.rejected);
     j.field("step_min", f.steps.smallest).field("step_max", f.steps.largest);
     if (o.integrator == Integrator::implicit) {

@@ -10,6 +10,7 @@ namespace clothsim::io {
 struct FrameStats {
   int frame = 0;
   Real max_strain = 0;      // largest (|d| - rest)/rest over all springs
+  Real strain_excess = 0;   // maxStrain scenes: largest (|d| - rest)/rest - maxStrain over the limited springs
   Real kinetic_energy = 0;  // J
   // Collisions (written only when the scene has colliders or self-collision):
   long long contacts = 0;                 // contacts found in the first collision pass of this frame's steps

@@ -1,5 +1,6 @@
 #include "sim/simulation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <utility>
@@ -29,6 +30,17 @@ void Simulation::resume(State state, int frame) {
   scratch_ = state_;
   next_frame_ = frame + 1;
   last_strain_ = max_spring_strain(model_, state_.x);
+}
+
+std::string describe_overrun(const LimitOverrun& o) {
+  if (o.frames == 0) return {};
+  char text[500];
+  std::snprintf(text, sizeof text, "%lld of %lld frames ended with springs past maxStrain, by up to %.3g (frame %d, "
+                "largest strain %.4g): contacts held them stretched where the strain limit after the collide stage "
+                "could not meet both (docs/stability.md, \"After the collide stage\")",
+                static_cast<long long>(o.frames), static_cast<long long>(o.stepped), o.worst_excess, o.worst_frame,
+                o.worst_strain);
+  return text;
 }
 
 std::string describe_failure(const SimOptions& opt, const StepFailure& f, int frame) {
@@ -103,6 +115,15 @@ FrameReport Simulation::advance_frame() {
     return r;
   }
   r.max_strain = last_strain_ = strain;
+  if (model_.strain_limited) r.strain_excess = std::max(Real(0), strain_limit_excess(model_, state_.x));
+  if (r.frame > options_.start_frame) {
+    ++overrun_.stepped;
+    if (r.strain_excess > strain_limit_tolerance) {
+      ++overrun_.frames;
+      if (r.strain_excess > overrun_.worst_excess)
+        overrun_ = {overrun_.stepped, overrun_.frames, r.frame, r.strain_excess, strain};
+    }
+  }
   r.kinetic_energy = kinetic_energy(model_, state_.v);
   if (r.steps.failed > 0 && failed_steps_ == 0)
     first_failure_ = describe_failure(options_, r.steps.first_failure, r.frame);

@@ -15,12 +15,23 @@
 
 namespace clothsim::sim {
 
+// Frames that ended past their cloth's maxStrain, and the worst of them.
+struct LimitOverrun {
+  std::int64_t stepped = 0;  // frames computed by steps (after the start frame)
+  std::int64_t frames = 0;   // of them, those past the limit
+  int worst_frame = 0;
+  Real worst_excess = 0;  // (|d| - rest)/rest - maxStrain of its worst spring
+  Real worst_strain = 0;  // that frame's largest strain over all springs
+};
+
 struct FrameReport {
   int frame = 0;            // the frame the state is now at
   FrameSteps steps;         // steps taken and rejected, failed checks, solves and what the steps did
   bool diverged = false;    // the state is not to be written: see `divergence`
   std::string divergence;   // why, with the step that failed and the remedy, in words; empty unless diverged
   Real max_strain = 0;      // largest (|d| - rest)/rest over all springs at the frame's end
+  // Largest (|d| - rest)/rest - maxStrain over the limited springs at the frame's end; 0 without maxStrain.
+  Real strain_excess = 0;
   Real kinetic_energy = 0;  // J
 };
 
@@ -42,6 +53,10 @@ class Simulation {
   // Steps that failed their check and were kept (fixed timestep), over the run, and the first of them.
   std::int64_t failed_steps() const { return failed_steps_; }
   const std::string& first_failure() const { return first_failure_; }
+  // Computed frames (after the start) that ended with a limited spring past maxStrain + strain_limit_tolerance:
+  // the strain limit after the collide stage leaves a spring that the contacts hold stretched (a pinch, a layer
+  // held over a seam) for the step control, which rejects only jumps. `run` warns about them after the last frame.
+  const LimitOverrun& limit_overrun() const { return overrun_; }
   // What every step of the run did, summed (force evaluations, CG iterations, contacts, stage times).
   const StepCounts& totals() const { return totals_; }
 
@@ -65,7 +80,11 @@ class Simulation {
   std::int64_t failed_steps_ = 0;
   StepCounts totals_;
   std::string first_failure_;
+  LimitOverrun overrun_;
 };
+
+// The sentence `run` prints after the last frame when frames ended past maxStrain; empty when none did.
+std::string describe_overrun(const LimitOverrun& overrun);
 
 // The sentence `run` prints for a step that failed its check and was kept.
 std::string describe_failure(const SimOptions& options, const StepFailure& failure, int frame);

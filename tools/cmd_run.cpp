@@ -79,6 +79,7 @@ io::FrameStats frame_stats(const sim::FrameReport& r) {
   io::FrameStats f;
   f.frame = r.frame;
   f.max_strain = r.max_strain;
+  f.strain_excess = r.strain_excess;
   f.kinetic_energy = r.kinetic_energy;
   f.contacts = r.steps.counts.contacts;
   f.zones = r.steps.counts.zones;
@@ -167,6 +168,8 @@ int cmd_run(int argc, char** argv) {
     std::fprintf(stderr, "clothsim: warning: %lld of %lld steps failed their check and were kept; the first: %s\n",
                  static_cast<long long>(simulation.failed_steps()), static_cast<long long>(state.step),
                  simulation.first_failure().c_str());
+  const std::string overrun = sim::describe_overrun(simulation.limit_overrun());
+  if (!overrun.empty()) std::fprintf(stderr, "clothsim: warning: %s\n", overrun.c_str());
 
   stats.steps = state.step;
   const StepCounts& totals = simulation.totals();

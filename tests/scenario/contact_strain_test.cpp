@@ -18,24 +18,6 @@ using namespace clothsim;
 
 namespace {
 
-// An axis-aligned box [x0, x1] x [y0, y1] x [z0, z1] as an OBJ with outward triangles.
-std::string box_obj(Real x0, Real x1, Real y0, Real y1, Real z0, Real z1) {
-  std::string text;
-  char line[96];
-  for (Real x : {x0, x1})
-    for (Real y : {y0, y1})
-      for (Real z : {z0, z1}) {
-        std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", x, y, z);
-        text += line;
-      }
-  // corner index x*4 + y*2 + z, 1-based below
-  const int f[12][3] = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1},
-                        {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
-  for (const auto& t : f) text += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " +
-                                  std::to_string(t[2] + 1) + "\n";
-  return text;
-}
-
 // A 10 cm sheet of 21 x 21 vertices (the knife-pleat dress's cloth: 200 g/m^2, 1000 N/m, 3 mm thick, maxStrain
 // 0.1) lying at its thickness on a floor box (top at y = 0), pressed by a 4 cm box whose bottom comes down from
 // 12 mm above the floor by 0.9 mm a frame (25 fps): a hand pressing a skirt onto a hip. From frame 5 the press
@@ -43,10 +25,10 @@ std::string box_obj(Real x0, Real x1, Real y0, Real y1, Real z0, Real z1) {
 // thicknesses the sheet asks for; at frame 12, 1.2 mm. Implicit, automatic step, Cholesky.
 std::filesystem::path pinch_scene(const std::string& name) {
   const auto dir = test::scratch_dir(name);
-  test::write_text(dir / "floor.obj", box_obj(-0.15, 0.15, -0.05, 0, -0.15, 0.15));
+  test::write_text(dir / "floor.obj", test::box_obj(-0.15, 0.15, -0.05, 0, -0.15, 0.15));
   for (int k = 0; k <= 12; ++k) {
     const Real y0 = 0.012 - 0.0009 * k;
-    test::write_text(dir / ("press" + std::to_string(k) + ".obj"), box_obj(-0.02, 0.02, y0, y0 + 0.04, -0.02, 0.02));
+    test::write_text(dir / ("press" + std::to_string(k) + ".obj"), test::box_obj(-0.02, 0.02, y0, y0 + 0.04, -0.02, 0.02));
   }
   test::write_text(dir / "pinch.xml", R"(<scene>
   <simulation timestep="auto" fps="25" startFrame="0" endFrame="12" integrator="implicit"

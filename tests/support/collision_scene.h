@@ -74,6 +74,24 @@ inline std::string kick_scene(const std::filesystem::path& sequence, int first, 
 )" + cloth;
 }
 
+// An axis-aligned box [x0, x1] x [y0, y1] x [z0, z1] as an OBJ with outward triangles.
+inline std::string box_obj(Real x0, Real x1, Real y0, Real y1, Real z0, Real z1) {
+  std::string text;
+  char line[96];
+  for (Real x : {x0, x1})
+    for (Real y : {y0, y1})
+      for (Real z : {z0, z1}) {
+        std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", x, y, z);
+        text += line;
+      }
+  // corner index x*4 + y*2 + z, 1-based below
+  const int f[12][3] = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1},
+                        {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
+  for (const auto& t : f) text += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " +
+                                  std::to_string(t[2] + 1) + "\n";
+  return text;
+}
+
 // Runs every frame of a scene through the run's frame loop (sim::Simulation), calling
 // check(frame, model, state, workspace) after each, or check(frame, model, state, workspace, report) for the
 // frame's figures (contacts, zones, steps). A diverged frame fails the test.
