@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "systems/displace.h"
 #include "systems/parallel.h"
 
 namespace clothsim {
@@ -64,9 +65,7 @@ int apply_stitch_limit(const Model& m, std::span<const Real> rest, State& out, R
       moved = true;
       const Vec3 delta = (1 - aim / l) * g;
       for (int k = 0; k < 3; ++k) {
-        const Vec3 dx = (-m.particle_inv_mass[p[k]] * c[k] / denom) * delta;
-        out.x[p[k]] += dx;
-        out.v[p[k]] += dx / h;
+        displace(out, p[k], (-m.particle_inv_mass[p[k]] * c[k] / denom) * delta, h);
       }
     }
     if (moved) ++it;

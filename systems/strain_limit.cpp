@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "systems/displace.h"
 #include "systems/parallel.h"
 
 namespace clothsim {
@@ -33,12 +34,6 @@ Real max_over(Index begin, Index end, Body&& body) {
 inline Real strain_excess(const Model& m, Index s, Real len) {
   const Real rest = m.spring_rest[s];
   return (len - rest) / rest - m.spring_max_strain[s];
-}
-
-// Moves particle i by dx and its velocity by dx / h (x' = x + h v' stays true).
-inline void displace(State& out, Index i, const Vec3& dx, Real h) {
-  out.x[i] += dx;
-  out.v[i] += dx / h;
 }
 
 // Kim et al. 2012 §3: a particle outside its tether's sphere goes straight back onto it; the pin does not move.

@@ -4,6 +4,7 @@
 
 #include "systems/collision/broad_phase.h"
 #include "systems/collision/contacts.h"
+#include "systems/displace.h"
 
 namespace clothsim {
 namespace {
@@ -62,11 +63,7 @@ Index apply_cloth_holds(const Model& m, State& out, const CollisionScratch& s, R
     const Real short_by = k.d - gap;
     if (!(short_by > hold_slack) || !(weight > 0)) continue;
     const Real lambda = short_by / weight;
-    for (int j = 0; j < 4; ++j) {
-      const Vec3 dx = (lambda * c[j] * m.particle_inv_mass[p[j]]) * k.n;
-      out.x[p[j]] += dx;
-      out.v[p[j]] += dx / h;
-    }
+    for (int j = 0; j < 4; ++j) displace(out, p[j], (lambda * c[j] * m.particle_inv_mass[p[j]]) * k.n, h);
     ++moved;
   }
   return moved;
