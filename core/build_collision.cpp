@@ -229,6 +229,8 @@ void make_collision_workspace(const Model& m, CollisionScratch& s) {
     s.zones.slot.assign(nodes, -1);
     s.zones.offset.assign(nodes + 1, 0);
     s.zones.member.resize(nodes);
+    s.zones.reach.reserve(std::size_t(m.particle_count));
+    s.zones.reach_box.reserve(std::size_t(m.particle_count));
   }
 }
 

@@ -3,6 +3,7 @@
 // and the per-step scratch (in Workspace). Empty for a scene without colliders and without a pair of cloths that
 // collide (a cloth with itself under selfCollision, two cloths under clothCollision).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -193,6 +194,10 @@ struct ZoneScratch {
   std::vector<Index> offset;         // CSR of the refitted zones' members, ascending: (node count + 1)
   std::vector<Index> member;         // (node count)
   Index zone_count = 0;              // zones refitted by this pass
+  // The later passes' reach: (root, particle) of every cloth particle in a zone, and round each root's members a
+  // box that every element able to meet one of them overlaps (reserved to the particle count).
+  std::vector<std::array<Index, 2>> reach;
+  std::vector<Aabb> reach_box;
 };
 
 // One pair a detection pass found, for the response to consume (systems/collision/contacts.h).

@@ -11,13 +11,19 @@
 
 namespace clothsim {
 
-// Which broad phase a walk queries: the scene's hash or BVH, or every prim (the tests' reference).
-enum class BroadMode { hash, bvh, brute };
+// Which broad phase a walk queries: the scene's hash or BVH and the colliders' tree, or every prim (the tests'
+// reference); hash_cloth and bvh_cloth query the cloth's side alone, for walks that want cloth-cloth pairs only.
+enum class BroadMode { hash, bvh, brute, hash_cloth, bvh_cloth };
 
 // The walk the scene's broad phase setting asks for.
 inline BroadMode broad_mode(const CollisionModel& c) {
   return c.broad_phase == BroadPhase::bvh ? BroadMode::bvh : BroadMode::hash;
 }
+// The same broad phase without the colliders' side: the walks then find no pair with a collider.
+inline BroadMode cloth_side(BroadMode mode) {
+  return mode == BroadMode::bvh ? BroadMode::bvh_cloth : mode == BroadMode::hash ? BroadMode::hash_cloth : mode;
+}
+inline bool walks_colliders(BroadMode mode) { return mode != BroadMode::hash_cloth && mode != BroadMode::bvh_cloth; }
 
 // Both sides for the step's collider positions (s.collider_x0, collider_x1) and the cloth's in and out.
 void build_broad_phase(const Model& model, const State& in, const State& out, CollisionScratch& s);
@@ -28,6 +34,12 @@ void build_cloth_broad_phase(const Model& model, const State& in, const State& o
 // Cloth vertices, triangles or edges a task of the contact passes takes: each costs a broad-phase query.
 inline constexpr Index contact_grain = 256;
 
+// A walk's filter on each cloth element's swept box before its broad-phase query: false skips the element (the
+// impact zones' later passes visit only elements near a zone). Everywhere keeps them all.
+struct Everywhere {
+  bool operator()(const Aabb&) const { return true; }
+};
+
 inline Aabb swept_box(const Vec3& a0, const Vec3& a1) { return {a0.cwiseMin(a1), a0.cwiseMax(a1)}; }
 inline void grow(Aabb& b, const Vec3& p) { b.lo = b.lo.cwiseMin(p); b.hi = b.hi.cwiseMax(p); }
 
@@ -36,14 +48,16 @@ template <class Visit>
 void for_each_candidate(const Model& m, const CollisionScratch& s, BroadMode mode, const Aabb& q, Visit&& visit) {
   const CollisionModel& c = m.collision;
   switch (mode) {
-    case BroadMode::hash: query_spatial_hash(s, q, visit); break;
-    case BroadMode::bvh: query_bvh(c.cloth_tree, s.cloth_node_box, q, visit); break;
+    case BroadMode::hash:
+    case BroadMode::hash_cloth: query_spatial_hash(s, q, visit); break;
+    case BroadMode::bvh:
+    case BroadMode::bvh_cloth: query_bvh(c.cloth_tree, s.cloth_node_box, q, visit); break;
     case BroadMode::brute:
       for (Index slot = 0; slot < Index(c.prim.size()); ++slot)
         if (boxes_overlap(q, s.prim_box[slot])) visit(slot);
       return;
   }
-  query_bvh(c.collider_tree, s.collider_node_box, q, visit);
+  if (walks_colliders(mode)) query_bvh(c.collider_tree, s.collider_node_box, q, visit);
 }
 
 // Corners of a broad-phase prim at the start and end of the step.
@@ -72,17 +86,19 @@ inline PrimCorners corners(const Model& m, const State& in, const State& out, co
 
 // Every collider-mesh vertex whose swept box may come within the thickness of cloth triangle t's swept box,
 // through the broad phase's collider triangles: a vertex is reported only by its lowest triangle, so each
-// (t, vertex) pair once. on_pair(t, vertex). Nothing for a scene without collider meshes.
-template <class OnPair>
+// (t, vertex) pair once. on_pair(t, vertex). Nothing for a scene without collider meshes. Triangles whose swept
+// box fails near(box) are skipped.
+template <class OnPair, class Near = Everywhere>
 void for_each_collider_vertex_pair(const Model& m, const State& in, const State& out, const CollisionScratch& s,
-                                   BroadMode mode, OnPair&& on_pair) {
+                                   BroadMode mode, OnPair&& on_pair, Near&& near = Near{}) {
   const CollisionModel& c = m.collision;
-  if (c.mesh_vertex_first_tri.empty()) return;
+  if (c.mesh_vertex_first_tri.empty() || !walks_colliders(mode)) return;
   parallel_over(m.tri_count, contact_grain, [&](Index t) {
     const Index* p = &m.tri_index[3 * t];
     if (m.particle_inv_mass[p[0]] == 0 && m.particle_inv_mass[p[1]] == 0 && m.particle_inv_mass[p[2]] == 0) return;
     Aabb q = swept_box(in.x[p[0]], out.x[p[0]]);
     for (int k = 1; k < 3; ++k) { grow(q, in.x[p[k]]); grow(q, out.x[p[k]]); }
+    if (!near(q)) return;
     for_each_candidate(m, s, mode, q, [&](Index slot) {
       const Index prim = c.prim[slot];
       if (prim < m.tri_count) return;
@@ -100,12 +116,13 @@ void for_each_collider_vertex_pair(const Model& m, const State& in, const State&
 // neither adjacent edges nor edges of cloths that do not collide), and every cloth edge against collider-mesh edges
 // (each reported by its lowest triangle). on_pair(e, q, p, x0, x1, fixed, f) with q the cloth edge's swept box,
 // p the four particles (collider vertices for p[2], p[3] when `fixed`), x0 and x1 pointers to their positions at
-// the start and end of the step, and f the other edge (a cloth edge, or a collider edge when fixed).
-template <class OnPair>
+// the start and end of the step, and f the other edge (a cloth edge, or a collider edge when fixed). Cloth edges
+// whose swept box fails near(q) are skipped.
+template <class OnPair, class Near = Everywhere>
 void for_each_edge_pair(const Model& m, const State& in, const State& out, const CollisionScratch& s,
-                        BroadMode mode, OnPair&& on_pair) {
+                        BroadMode mode, OnPair&& on_pair, Near&& near = Near{}) {
   const CollisionModel& c = m.collision;
-  const bool meshes = !c.mesh_edge_a.empty();
+  const bool meshes = !c.mesh_edge_a.empty() && walks_colliders(mode);
   if (!c.cloth_contact && !meshes) return;
   parallel_over(Index(c.edge_a.size()), contact_grain, [&](Index e) {
     if (!meshes && !c.edge_contact[e]) return;
@@ -113,6 +130,7 @@ void for_each_edge_pair(const Model& m, const State& in, const State& out, const
     Aabb q = swept_box(in.x[a], out.x[a]);
     grow(q, in.x[b]);
     grow(q, out.x[b]);
+    if (!near(q)) return;
     for_each_candidate(m, s, mode, q, [&](Index slot) {
       const Index prim = c.prim[slot];
       if (prim >= m.tri_count) {

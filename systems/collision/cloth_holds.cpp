@@ -34,7 +34,7 @@ void gather_cloth_holds(const Model& m, const State& in, const State& out, Colli
   const CollisionModel& c = m.collision;
   if (!c.cloth_contact || c.prim.empty()) return;
   build_cloth_broad_phase(m, in, out, s);
-  const Index found = find_proximities(m, in, out, s, broad_mode(c));
+  const Index found = find_proximities(m, in, out, s, cloth_side(broad_mode(c)));
   for (Index k = 0; k < found; ++k) {
     const Contact& ct = s.contacts[std::size_t(k)];
     const bool cloth = ct.kind == ContactKind::cloth_edges ||

@@ -32,13 +32,13 @@ Index fill_contacts(CollisionScratch& s, Find&& find) {
 Index find_proximities(const Model& model, const State& in, const State& out, CollisionScratch& s, BroadMode mode);
 
 // The continuous pass's pairs (for_each_crossing) into s.contacts, testing only pairs whose cloth particles pass
-// keep(particles, count); returns their count.
-template <class Keep>
+// keep(particles, count), from cloth elements whose swept box passes near(box); returns their count.
+template <class Keep, class Near = Everywhere>
 Index find_crossings(const Model& m, const State& in, const State& out, CollisionScratch& s, BroadMode mode,
-                     Keep&& keep) {
+                     Keep&& keep, Near&& near = Near{}) {
   return fill_contacts(s, [&](auto&& add) {
     for_each_crossing(
-        m, in, out, s, mode, keep,
+        m, in, out, s, mode, keep, near,
         [&](Index i, Index prim, const PrimCorners&, const Real* w, const Vec3& n, Real d) {
           add(Contact{ContactKind::vertex_triangle, i, prim, {w[0], w[1], w[2]}, n, d});
         },

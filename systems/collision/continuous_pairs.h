@@ -35,10 +35,10 @@ inline bool edge_edge_crossing(const Vec3 x0[4], const Vec3 x1[4], Real thick, E
 // edge and f the other (a collider edge when `fixed`), px.s and px.t where they met, n and d as edge_edge_crossing
 // gives them. A cloth edge that came from inside a collider is left to the proximity pass, which sends it out.
 // Only pairs whose boxes come within the thickness and whose cloth particles pass keep(particles, count) are
-// tested.
-template <class Keep, class OnEdge>
+// tested, and only cloth edges whose swept box passes near(box) are walked.
+template <class Keep, class Near, class OnEdge>
 void for_each_edge_crossing(const Model& m, const State& in, const State& out, const CollisionScratch& s,
-                            BroadMode mode, Keep&& keep, OnEdge&& on_edge) {
+                            BroadMode mode, Keep&& keep, Near&& near, OnEdge&& on_edge) {
   const CollisionModel& c = m.collision;
   auto edge_pair = [&](Index e, const Aabb& q, const Index* p, const Vec3* const* px0, const Vec3* const* px1,
                        bool fixed, Index f) {
@@ -61,7 +61,7 @@ void for_each_edge_crossing(const Model& m, const State& in, const State& out, c
     }
     on_edge(e, f, fixed, px, n, d);
   };
-  for_each_edge_pair(m, in, out, s, mode, edge_pair);
+  for_each_edge_pair(m, in, out, s, mode, edge_pair, near);
 }
 
 // Every crossing of the step: each cloth vertex against the triangles its swept box meets (on_vertex(i, prim,
@@ -69,15 +69,18 @@ void for_each_edge_crossing(const Model& m, const State& in, const State& out, c
 // vertex against the cloth triangles (on_collider_vertex(t, v, w, n, d), n pointing from the vertex to the side
 // the triangle must keep; a hit from the collider's outside, by the vertex's outward direction as in the
 // proximity pass), then the edge pairs (for_each_edge_crossing). Only pairs whose cloth particles pass
-// keep(particles, count) are tested (the zones' later passes skip pairs none of whose particles they moved).
-template <class Keep, class OnVertex, class OnColliderVertex, class OnEdge>
+// keep(particles, count) are tested (the zones' later passes skip pairs none of whose particles they moved), and
+// only cloth elements (vertices, edges, triangles against collider vertices) whose swept box passes near(box) are
+// walked: near must hold for every element that can have a kept pair.
+template <class Keep, class Near, class OnVertex, class OnColliderVertex, class OnEdge>
 void for_each_crossing(const Model& m, const State& in, const State& out, const CollisionScratch& s,
-                       BroadMode mode, Keep&& keep, OnVertex&& on_vertex, OnColliderVertex&& on_collider_vertex,
-                       OnEdge&& on_edge) {
+                       BroadMode mode, Keep&& keep, Near&& near, OnVertex&& on_vertex,
+                       OnColliderVertex&& on_collider_vertex, OnEdge&& on_edge) {
   const CollisionModel& c = m.collision;
   parallel_over(m.particle_count, contact_grain, [&](Index i) {
     const Real thick = m.particle_thickness[i];
     const Aabb q = swept_box(in.x[i], out.x[i]);
+    if (!near(q)) return;
     for_each_candidate(m, s, mode, q, [&](Index slot) {
       const Index prim = c.prim[slot];
       const PrimCorners t = corners(m, in, out, s, prim);
@@ -114,8 +117,8 @@ void for_each_crossing(const Model& m, const State& in, const State& out, const 
     const Real d = n.dot(x1[1] - x1[0]);
     if (!std::isfinite(d) || d >= thick) return;
     on_collider_vertex(t, v, px.w, n, d);
-  });
-  for_each_edge_crossing(m, in, out, s, mode, keep, on_edge);
+  }, near);
+  for_each_edge_crossing(m, in, out, s, mode, keep, near, on_edge);
 }
 
 // The continuous pass, last (Bridson et al. 2002 §6.2): every crossing of for_each_crossing (through the contact

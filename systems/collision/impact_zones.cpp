@@ -1,5 +1,6 @@
 #include "systems/collision/impact_zones.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "systems/collision/contacts.h"
@@ -168,6 +169,35 @@ void count_zones(ZoneScratch& z, ZoneFigures& figures) {
     }
 }
 
+// A kept pair has a zone member among its particles; the element walked is that member, or meets (within the
+// thickness, for an edge pair) the box of a cloth triangle that has the member as a corner. So growing each
+// member's swept path by the largest cloth prim box (thickness included) and the thickness again covers every
+// element that can have a kept pair.
+void gather_reach_boxes(const Model& m, const State& in, const State& out, const CollisionScratch& s,
+                        ZoneScratch& z) {
+  const CollisionModel& c = m.collision;
+  Real grow_by = 0;
+  for (Index k = 0; k < c.cloth_prim_count; ++k)
+    grow_by = std::max(grow_by, (s.prim_box[k].hi - s.prim_box[k].lo).maxCoeff());
+  grow_by += c.max_thickness;
+  z.reach.clear();
+  for (Index i = 0; i < m.particle_count; ++i)
+    if (z.flag[i] & zone_member) z.reach.push_back({z.parent[i], i});
+  std::sort(z.reach.begin(), z.reach.end());
+  z.reach_box.clear();
+  for (std::size_t k = 0; k < z.reach.size(); ++k) {
+    const Index i = z.reach[k][1];
+    if (k == 0 || z.reach[k][0] != z.reach[k - 1][0]) z.reach_box.push_back(swept_box(in.x[i], out.x[i]));
+    Aabb& b = z.reach_box.back();
+    grow(b, in.x[i]);
+    grow(b, out.x[i]);
+  }
+  for (Aabb& b : z.reach_box) {
+    b.lo.array() -= grow_by;
+    b.hi.array() += grow_by;
+  }
+}
+
 // Each pass finds the pairs the continuous pass would still respond to (find_crossings), merges their nodes (cloth
 // particles; collider vertices as node particle_count + v) into zones, and moves the zones that grew, until a pass
 // finds none. It stops early, the step counted as unresolved, when a pass merges nothing (every pair found lies
@@ -195,7 +225,15 @@ ZoneFigures resolve_impact_zones(const Model& m, const State& in, State& out, Co
         if (z.flag[p[k]] & zone_member) return true;
       return false;
     };
-    const Index pairs = find_crossings(m, in, out, s, mode, moved);
+    // Those pairs come only from elements near a zone: the walk skips the rest before their broad-phase query.
+    if (pass > 0) gather_reach_boxes(m, in, out, s, z);
+    auto near = [&](const Aabb& q) {
+      if (pass == 0) return true;
+      for (const Aabb& b : z.reach_box)
+        if (boxes_overlap(q, b)) return true;
+      return false;
+    };
+    const Index pairs = find_crossings(m, in, out, s, mode, moved, near);
     parallel_over(pairs, contact_grain, [&](Index k) {
       Index nodes[4];
       contact_nodes(m, s.contacts[std::size_t(k)], nodes);

@@ -145,6 +145,11 @@ void reset_zones(ZoneScratch& z);
 void gather_zones(ZoneScratch& z);
 // Moves the gathered zones as rigid bodies over the step (out.x and out.v of their cloth particles).
 void rigidify_zones(const Model& model, const State& in, State& out, const CollisionScratch& s, Real h);
+// Boxes round the zones' cloth members (z.reach_box, one per root, from z.flag and z.parent), for the later passes'
+// walks: every cloth element that can have a pair with a zone member overlaps one of them, so an element whose
+// swept box overlaps none is skipped before its broad-phase query. Reads the cloth's prim boxes (s.prim_box).
+void gather_reach_boxes(const Model& model, const State& in, const State& out, const CollisionScratch& s,
+                        ZoneScratch& z);
 // Adds the step's zones and their sizes to `figures`.
 void count_zones(ZoneScratch& z, ZoneFigures& figures);
 

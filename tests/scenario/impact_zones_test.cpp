@@ -6,12 +6,15 @@
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <random>
 
 #include "systems/collision/collide.h"
 #include "systems/collision/collision_check.h"
+#include "systems/collision/contacts.h"
 #include "systems/collision/impact_zones.h"
 #include "tests/support/collision_scene.h"
 
@@ -261,4 +264,76 @@ TEST_CASE("the Kick body's fastest frames (shared data: skipped without it): no 
   // that only passed within the thickness were also sent back, along the lines' cross product.
   CHECK(nearest > 0.25 * 0.006);
   MESSAGE("nearest cloth vertex to the body from frame 54 on: " << nearest << " m; steps with zones " << zone_steps);
+}
+
+TEST_CASE("the zones' later passes find the same pairs walking only the elements near a zone") {
+  // Two crumpled sheets, the upper one passing down through the lower over the step (cloth-cloth crossings
+  // everywhere), with three 5 x 5 patches of the lower taken as zones: the pairs touching a zone member are the
+  // same whether the walk visits every element or only those whose swept box meets a reach box
+  // (gather_reach_boxes), and the reach skips most elements. The upper sheet's vertices and edges that cross a
+  // member's triangle are found only through the reach's growth by the largest triangle box.
+  const auto dir = scratch_dir("zone_reach");
+  write_text(dir / "s.xml", R"(<scene>
+  <cloth name="a" grid="40 40" size="0.6 0.6"><thickness value="0.005"/></cloth>
+  <cloth name="b" grid="40 40" size="0.6 0.6" translate="0.007 0.01 0.004"><thickness value="0.005"/></cloth>
+</scene>)");
+  auto sc = load_collision_scene(dir / "s.xml");
+  const Model& m = sc.built.model;
+  REQUIRE(m.particle_count == 3200);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<Real> height(-0.002, 0.002), small(-0.002, 0.002);
+  std::uniform_int_distribution<Index> corner(0, 34);
+  Index pairs = 0;
+  for (int trial = 0; trial < 4; ++trial) {
+    State in = sc.built.state, out = in;
+    for (Index i = 0; i < m.particle_count; ++i) {
+      in.x[i].y() += height(rng);
+      out.x[i] = in.x[i] + Vec3(small(rng), i < 1600 ? small(rng) : small(rng) - 0.02, small(rng));
+    }
+    Workspace ws = make_workspace(m, sc.built.options);
+    CollisionScratch& s = ws.collision;
+    build_broad_phase(m, in, out, s);
+    ZoneScratch& z = s.zones;
+    reset_zones(z);
+    for (int zone = 0; zone < 3; ++zone) {
+      const Index ci = corner(rng), cj = corner(rng), root = 40 * cj + ci;
+      for (Index j = cj; j < cj + 5; ++j)
+        for (Index i = ci; i < ci + 5; ++i) {
+          z.flag[40 * j + i] |= zone_member;
+          z.parent[40 * j + i] = root;
+        }
+    }
+    auto member = [&](const Index* p, int count) {
+      for (int k = 0; k < count; ++k)
+        if (z.flag[p[k]] & zone_member) return true;
+      return false;
+    };
+    auto listed = [&] {
+      std::vector<std::array<Index, 3>> found;
+      for (Index k = 0; k < s.contact_count; ++k) {
+        const Contact& c = s.contacts[std::size_t(k)];
+        found.push_back({Index(c.kind), c.a, c.b});
+      }
+      std::sort(found.begin(), found.end());
+      return found;
+    };
+    find_crossings(m, in, out, s, BroadMode::hash, member);
+    const auto everywhere = listed();
+    gather_reach_boxes(m, in, out, s, z);
+    CHECK(z.reach_box.size() <= 3);
+    std::atomic<Index> walked{0};
+    auto near = [&](const Aabb& q) {
+      for (const Aabb& b : z.reach_box)
+        if (boxes_overlap(q, b)) return walked.fetch_add(1), true;
+      return false;
+    };
+    find_crossings(m, in, out, s, BroadMode::hash, member, near);
+    const Index elements = m.particle_count + Index(m.collision.edge_a.size());
+    INFO("trial " << trial << ": " << everywhere.size() << " pairs, " << walked.load() << " of " << elements
+                  << " elements walked");
+    CHECK(listed() == everywhere);
+    CHECK(walked.load() < elements / 4);
+    pairs += Index(everywhere.size());
+  }
+  CHECK(pairs > 100);
 }
