@@ -100,3 +100,18 @@ TEST_CASE("a run that keeps maxStrain reports no overrun") {
   CHECK(simulation.limit_overrun().frames == 0);
   CHECK(sim::describe_overrun(simulation.limit_overrun()).empty());
 }
+
+TEST_CASE("clothsim run ends the rising box with one warning naming the frames past maxStrain, exit code 0") {
+  const auto xml = rising_box_scene();
+  sim::Simulation simulation(test::load_collision_scene(xml));
+  while (simulation.next_frame() <= simulation.options().end_frame) REQUIRE_FALSE(simulation.advance_frame().diverged);
+  const std::string said = sim::describe_overrun(simulation.limit_overrun());
+  REQUIRE_FALSE(said.empty());
+  const auto stats = xml.parent_path() / "s.json";
+  const test::CliResult r = test::run_cli("run " + xml.string() + " --quiet --stats " + stats.string());
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("clothsim: warning: " + said + "\n") != std::string::npos);
+  const std::string json = test::read_text(stats);
+  CHECK(json.find("\"strain_excess\"") != std::string::npos);
+}
