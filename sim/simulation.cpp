@@ -120,8 +120,11 @@ FrameReport Simulation::advance_frame() {
     ++overrun_.stepped;
     if (r.strain_excess > strain_limit_tolerance) {
       ++overrun_.frames;
-      if (r.strain_excess > overrun_.worst_excess)
-        overrun_ = {overrun_.stepped, overrun_.frames, r.frame, r.strain_excess, strain};
+      if (r.strain_excess > overrun_.worst_excess) {
+        overrun_.worst_frame = r.frame;
+        overrun_.worst_excess = r.strain_excess;
+        overrun_.worst_strain = strain;
+      }
     }
   }
   r.kinetic_energy = kinetic_energy(model_, state_.v);

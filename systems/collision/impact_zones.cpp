@@ -187,15 +187,24 @@ void gather_reach_boxes(const Model& m, const State& in, const State& out, const
   z.reach_box.clear();
   for (std::size_t k = 0; k < z.reach.size(); ++k) {
     const Index i = z.reach[k][1];
-    if (k == 0 || z.reach[k][0] != z.reach[k - 1][0]) z.reach_box.push_back(swept_box(in.x[i], out.x[i]));
-    Aabb& b = z.reach_box.back();
-    grow(b, in.x[i]);
-    grow(b, out.x[i]);
+    const Aabb path = swept_box(in.x[i], out.x[i]);
+    if (k == 0 || z.reach[k][0] != z.reach[k - 1][0]) {
+      z.reach_box.push_back(path);
+    } else {
+      grow(z.reach_box.back(), path.lo);
+      grow(z.reach_box.back(), path.hi);
+    }
   }
   for (Aabb& b : z.reach_box) {
     b.lo.array() -= grow_by;
     b.hi.array() += grow_by;
   }
+}
+
+bool near_a_zone(const ZoneScratch& z, const Aabb& q) {
+  for (const Aabb& b : z.reach_box)
+    if (boxes_overlap(q, b)) return true;
+  return false;
 }
 
 // Each pass finds the pairs the continuous pass would still respond to (find_crossings), merges their nodes (cloth
@@ -227,12 +236,7 @@ ZoneFigures resolve_impact_zones(const Model& m, const State& in, State& out, Co
     };
     // Those pairs come only from elements near a zone: the walk skips the rest before their broad-phase query.
     if (pass > 0) gather_reach_boxes(m, in, out, s, z);
-    auto near = [&](const Aabb& q) {
-      if (pass == 0) return true;
-      for (const Aabb& b : z.reach_box)
-        if (boxes_overlap(q, b)) return true;
-      return false;
-    };
+    auto near = [&](const Aabb& q) { return pass == 0 || near_a_zone(z, q); };
     const Index pairs = find_crossings(m, in, out, s, mode, moved, near);
     parallel_over(pairs, contact_grain, [&](Index k) {
       Index nodes[4];

@@ -150,6 +150,8 @@ void rigidify_zones(const Model& model, const State& in, State& out, const Colli
 // swept box overlaps none is skipped before its broad-phase query. Reads the cloth's prim boxes (s.prim_box).
 void gather_reach_boxes(const Model& model, const State& in, const State& out, const CollisionScratch& s,
                         ZoneScratch& z);
+// Whether box q overlaps one of the reach boxes gather_reach_boxes made.
+bool near_a_zone(const ZoneScratch& z, const Aabb& q);
 // Adds the step's zones and their sizes to `figures`.
 void count_zones(ZoneScratch& z, ZoneFigures& figures);
 
