@@ -2,7 +2,9 @@
 // triangles and edges that touch at a seam are neither contact pairs nor counted intersections.
 #include <doctest/doctest.h>
 
+#include <array>
 #include <cmath>
+#include <vector>
 
 #include "core/build_collision.h"
 #include "core/build_model.h"
@@ -61,6 +63,55 @@ TEST_CASE("seam adjacency: a sewn vertex is a neighbour of the vertices it is se
   CHECK_FALSE(c.edges_adjacent(10, 11, 1, 2));
 }
 
+// Three 3 x 3 panels side by side (A: vertices 0-8, B: 9-17, C: 18-26), apart in x so that nothing touches;
+// the stitches only make the seam graph.
+BuiltScene three_panels(const std::vector<std::array<Real, 4>>& stitches) {
+  const SceneDesc s = test::self_colliding_scene(0.001);
+  const MeshData g = make_grid_mesh(3, 3, 0.2, 0.2);
+  MeshData mesh;
+  for (int p = 0; p < 3; ++p) {
+    const Index n = Index(mesh.positions.size());
+    for (const Vec3& x : g.positions) mesh.positions.push_back(x + Vec3(0.5 * p, 0, 0));
+    for (Index t : g.tri_index) mesh.tri_index.push_back(n + t);
+  }
+  for (const auto& st : stitches) {
+    mesh.stitch_a.push_back(Index(st[0]));
+    mesh.stitch_b.push_back(Index(st[1]));
+    mesh.stitch_c.push_back(Index(st[2]));
+    mesh.stitch_w.push_back(st[3]);
+  }
+  BuiltScene b = build_model(s, std::vector<MeshData>{mesh});
+  build_collision(s, {}, b.state.x, b.model);
+  return b;
+}
+
+TEST_CASE("seam adjacency: vertices sewn to coincide through a chain are one point, a stitch inside an edge is not") {
+  // C's 18 on B's 9 (w = 0), B's 9 on A's 2 (w = 1 on the edge 1-2): 2, 9 and 18 are one point of the garment.
+  // C's 20 sewn half way along B's edge 11-14 joins 11 and 14 only. A's 6 on B's 15 (w = 0) is a pair apart.
+  const BuiltScene b = three_panels({{18, 9, 9, 0}, {9, 1, 2, 1}, {20, 11, 14, 0.5}, {6, 15, 15, 0}});
+  const CollisionModel& c = b.model.collision;
+  // Hand count of each row: the group, and the groups of the partners of its members.
+  CHECK(c.joined(18, 2));  // through 9: not a stitch of its own
+  CHECK(c.joined(2, 18));
+  CHECK(c.joined(18, 9));
+  CHECK(c.joined(18, 1));  // 9 is stitched to the edge 1-2, and 18 is 9
+  CHECK(c.joined(9, 1));
+  CHECK(c.joined(20, 11));
+  CHECK(c.joined(20, 14));
+  CHECK(c.joined(6, 15));
+  CHECK_FALSE(c.joined(20, 9));  // 20 lies inside 11-14: no chain through it
+  CHECK_FALSE(c.joined(11, 14));  // both sewn to 20, not to each other
+  CHECK_FALSE(c.joined(6, 2));
+  CHECK_FALSE(c.joined(18, 15));
+  CHECK(c.joined(1, 18));  // 1 is stitched to 9, so to all of its point
+  const std::vector<Index> row18(c.seam_index.begin() + c.seam_offset[18], c.seam_index.begin() + c.seam_offset[19]);
+  CHECK(row18 == std::vector<Index>{1, 2, 9});
+  const std::vector<Index> row20(c.seam_index.begin() + c.seam_offset[20], c.seam_index.begin() + c.seam_offset[21]);
+  CHECK(row20 == std::vector<Index>{11, 14});
+  const Index tri_a[3] = {1, 4, 2};
+  CHECK_FALSE(c.vertex_meets_cloth_triangle(18, tri_a));  // a corner is 18's own point
+}
+
 TEST_CASE("panels lapped at a seam: intersections and contact pairs without the stitches, none with them") {
   for (bool sew : {false, true}) {
     CAPTURE(sew);
@@ -102,4 +153,8 @@ TEST_CASE("the draped Codim-IPC dress: its intersecting triangle pairs are seams
   BuiltScene b = build_model(s, std::vector<MeshData>{mesh});
   build_collision(s, {}, b.state.x, b.model);
   CHECK(count_intersecting_triangles(b.model, b.state.x) == 0);
+  // The seam rows, counted by an independent script (a union-find over the 545 stitches with w = 0 or 1, then
+  // each stitched vertex's group and its partners' groups): 6,832 entries, where the direct links alone give
+  // 3,340. The 395 groups have 2 (331), 3 (30) or 4 (34) vertices: junctions of up to four panels.
+  CHECK(b.model.collision.seam_index.size() == 6832);
 }
