@@ -261,6 +261,7 @@ void make_collision_workspace(const Model& m, CollisionScratch& s) {
   s.acc_dv.assign(3 * std::size_t(m.particle_count), 0);
   s.acc_dx.assign(3 * std::size_t(m.particle_count), 0);
   s.acc_count.assign(m.particle_count, 0);
+  s.crossed.assign(m.particle_count, 0);
   s.deep_collider.assign(m.particle_count, -1);
   // A first capacity for the contact buffer; a pass that finds more grows it (systems/collision/contacts.h).
   s.contacts.resize(std::min<std::size_t>(std::size_t(m.particle_count), 4096));

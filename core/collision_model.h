@@ -164,6 +164,13 @@ struct HashScratch {
   std::vector<Index> bucket_fill;       // (table_size)
 };
 
+// Where a set of cloth particles can be met: marked cells of a uniform grid (systems/collision/reach_grid.h).
+struct ReachGrid {
+  Real inv_cell = 0;                // 1 / cell side, m^-1; the side is the reach
+  bool everywhere = false;          // a path beyond the representable cells: every box is near
+  std::vector<std::int64_t> cells;  // packed cell coordinates (systems/collision/spatial_hash.h), sorted, unique
+};
+
 // What the impact zones did, summed over steps (--stats writes them per frame).
 struct ZoneFigures {
   std::int64_t steps = 0;       // steps that ran the zones (crossings left after the continuous passes)
@@ -248,6 +255,10 @@ struct CollisionScratch {
   // grows to the most one pass has found
   std::vector<Contact> contacts;
   Index contact_count = 0;
+  // 1 for the cloth particles of the pairs the latest continuous pass found: the next pass and the impact zones'
+  // first pass test only pairs with one of them (particle_count).
+  std::vector<std::uint8_t> crossed;
+  ReachGrid crossed_reach;  // where those particles can be met (systems/collision/reach_grid.h)
   ZoneScratch zones;
   // Cloth particles found inside a closed collider mesh: that collider, or -1 (particle_count); filled by the
   // first step this workspace takes (systems/collision/push_out.h).

@@ -50,7 +50,7 @@ CollideCounts collide(const Model& m, const State& in, State& out, Workspace& ws
   bool crossings_left = false;
   for (int pass = 0; broad && pass < c.iterations; ++pass) {
     if (pass > 0) build_cloth_broad_phase(m, in, out, s);
-    crossings_left = collide_continuous(m, in, out, s, mode, h) > 0;
+    crossings_left = collide_continuous(m, in, out, s, mode, h, pass > 0) > 0;
     if (!crossings_left) break;
   }
   if (crossings_left && c.impact_zones()) counts.zones = resolve_impact_zones(m, in, out, s, mode, h);

@@ -34,6 +34,16 @@ void edge_pair_ends(const CollisionModel& c, Index e, Index f, bool fixed, Index
 }
 }  // namespace
 
+void mark_crossed(const Model& m, CollisionScratch& s, Index found) {
+  std::fill(s.crossed.begin(), s.crossed.end(), std::uint8_t(0));
+  for (Index k = 0; k < found; ++k) {
+    Index nodes[4] = {m.particle_count, m.particle_count, m.particle_count, m.particle_count};
+    contact_nodes(m, s.contacts[std::size_t(k)], nodes);
+    for (const Index x : nodes)
+      if (x < m.particle_count) s.crossed[x] = 1;
+  }
+}
+
 void contact_nodes(const Model& m, const Contact& k, Index nodes[4]) {
   const CollisionModel& c = m.collision;
   const Index pc = m.particle_count;

@@ -51,6 +51,15 @@ Index find_crossings(const Model& m, const State& in, const State& out, Collisio
   });
 }
 
+// Whether one of the cloth particles p[0, count) is in a pair the latest continuous pass found (s.crossed).
+inline bool crossed(const CollisionScratch& s, const Index* p, int count) {
+  for (int k = 0; k < count; ++k)
+    if (s.crossed[p[k]]) return true;
+  return false;
+}
+// s.crossed: 1 for the cloth particles of the `found` pairs in s.contacts, 0 for the rest.
+void mark_crossed(const Model& model, CollisionScratch& s, Index found);
+
 // The four nodes of contact k, for zone merging: cloth particles, and collider vertex v as node
 // particle_count + v.
 void contact_nodes(const Model& model, const Contact& k, Index nodes[4]);

@@ -124,8 +124,11 @@ void for_each_crossing(const Model& m, const State& in, const State& out, const 
 // The continuous pass, last (Bridson et al. 2002 §6.2): every crossing of for_each_crossing (through the contact
 // buffer, systems/collision/contacts.h) is sent back to the side it came from, with the end-of-step distance
 // along that direction restored to the thickness by an inelastic impulse and a position-only push spread over the
-// cloth particles by their weights. Returns the contacts it responded to.
+// cloth particles by their weights. Returns the contacts it responded to. Each pass leaves in s.crossed the cloth
+// particles of the pairs it found. With `retest` (every pass after the first) only pairs with such a particle are
+// tested: no other pair has moved since the pass before tested it and found it apart; and only elements near
+// those particles are walked (systems/collision/reach_grid.h).
 std::int64_t collide_continuous(const Model& model, const State& in, State& out, CollisionScratch& s,
-                                BroadMode mode, Real h);
+                                BroadMode mode, Real h, bool retest);
 
 }  // namespace clothsim

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "systems/collision/contacts.h"
+#include "systems/collision/reach_grid.h"
 #include "systems/parallel.h"
 
 namespace clothsim {
@@ -169,17 +170,11 @@ void count_zones(ZoneScratch& z, ZoneFigures& figures) {
     }
 }
 
-// A kept pair has a zone member among its particles; the element walked is that member, or meets (within the
-// thickness, for an edge pair) the box of a cloth triangle that has the member as a corner. So growing each
-// member's swept path by the largest cloth prim box (thickness included) and the thickness again covers every
-// element that can have a kept pair.
+// A kept pair has a zone member among its particles, so growing each member's swept path by a particle's reach
+// (systems/collision/reach_grid.h) covers every element that can have a kept pair.
 void gather_reach_boxes(const Model& m, const State& in, const State& out, const CollisionScratch& s,
                         ZoneScratch& z) {
-  const CollisionModel& c = m.collision;
-  Real grow_by = 0;
-  for (Index k = 0; k < c.cloth_prim_count; ++k)
-    grow_by = std::max(grow_by, (s.prim_box[k].hi - s.prim_box[k].lo).maxCoeff());
-  grow_by += c.max_thickness;
+  const Real grow_by = reach_of_a_particle(m, s);
   z.reach.clear();
   for (Index i = 0; i < m.particle_count; ++i)
     if (z.flag[i] & zone_member) z.reach.push_back({z.parent[i], i});
@@ -228,15 +223,18 @@ ZoneFigures resolve_impact_zones(const Model& m, const State& in, State& out, Co
     // After the first pass, a pair none of whose cloth particles is in a zone has not moved since that pass
     // found it apart (collider vertices move the same in every pass): only pairs touching a zone are tested. The
     // flags read are the earlier passes': this pass merges its pairs only after detecting all of them.
+    // The first pass likewise tests only pairs with a particle the last continuous pass moved (s.crossed).
     auto moved = [&](const Index* p, int count) {
-      if (pass == 0) return true;
+      if (pass == 0) return crossed(s, p, count);
       for (int k = 0; k < count; ++k)
         if (z.flag[p[k]] & zone_member) return true;
       return false;
     };
-    // Those pairs come only from elements near a zone: the walk skips the rest before their broad-phase query.
-    if (pass > 0) gather_reach_boxes(m, in, out, s, z);
-    auto near = [&](const Aabb& q) { return pass == 0 || near_a_zone(z, q); };
+    // Those pairs come only from elements near a zone (near a particle the continuous pass moved, in the first
+    // pass): the walk skips the rest before their broad-phase query.
+    if (pass == 0) build_reach_grid(in, out, s.crossed, reach_of_a_particle(m, s), s.crossed_reach);
+    else gather_reach_boxes(m, in, out, s, z);
+    auto near = [&](const Aabb& q) { return pass == 0 ? reaches(s.crossed_reach, q) : near_a_zone(z, q); };
     const Index pairs = find_crossings(m, in, out, s, mode, moved, near);
     parallel_over(pairs, contact_grain, [&](Index k) {
       Index nodes[4];

@@ -157,7 +157,8 @@ void count_zones(ZoneScratch& z, ZoneFigures& figures);
 
 // The zone driver, after continuous passes that left crossings: each pass finds the pairs the continuous pass
 // would still respond to (for_each_crossing, systems/collision/continuous_pairs.h), merges their nodes into zones
-// and moves the zones that grew, until a pass finds none (impact_zones.cpp). Returns what the zones did.
+// and moves the zones that grew, until a pass finds none (impact_zones.cpp). The first pass reads the last
+// continuous pass's s.crossed: only pairs with one of its particles can be found. Returns what the zones did.
 ZoneFigures resolve_impact_zones(const Model& model, const State& in, State& out, CollisionScratch& s,
                                  BroadMode mode, Real h);
 
