@@ -13,8 +13,9 @@ namespace clothsim {
 // cloth prim box (thickness included, s.prim_box of the cloth's broad phase) plus the thickness again.
 Real reach_of_a_particle(const Model& model, const CollisionScratch& s);
 
-// Marks the cells that each particle with flag[i] != 0 reaches: its swept path from in.x to out.x grown by
-// `reach` on every side. Cells of side `reach`.
+// Marks the cells that each particle with flag[i] == 1 reaches: its swept path from in.x to out.x grown by
+// `reach` on every side. Cells of side `reach`. Over a quarter of the particles flagged, or no reach, marks
+// everywhere.
 void build_reach_grid(const State& in, const State& out, const std::vector<std::uint8_t>& flag, Real reach,
                       ReachGrid& g);
 

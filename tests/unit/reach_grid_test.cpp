@@ -12,10 +12,10 @@ using namespace clothsim;
 
 TEST_CASE("reach grid: one resting particle marks the 27 cells round it, a box two cells away is not near") {
   State in;
-  in.x = {Vec3(0.05, 0.05, 0.05), Vec3(3, 3, 3)};
+  in.x = {Vec3(0.05, 0.05, 0.05), Vec3(3, 3, 3), Vec3(3, 3, 3), Vec3(3, 3, 3), Vec3(3, 3, 3)};
   const State out = in;
   ReachGrid g;
-  build_reach_grid(in, out, {1, 0}, 0.1, g);  // the second particle is not flagged
+  build_reach_grid(in, out, {1, 0, 0, 0, 0}, 0.1, g);  // the others are not flagged
   // Grown by 0.1 m, the particle's point spans [-0.05, 0.15] an axis: cells -1, 0 and 1 of side 0.1 m.
   CHECK(g.cells.size() == 27);
   CHECK_FALSE(g.everywhere);
@@ -63,7 +63,7 @@ TEST_CASE("reach grid: every box that meets a grown path reaches a marked cell (
   MESSAGE(meets << " boxes meet a grown path, " << near << " reach a marked cell, of 20000");
 }
 
-TEST_CASE("reach grid: a path beyond the representable cells, or no reach, makes every box near") {
+TEST_CASE("reach grid: a path beyond the representable cells, no reach or many particles make every box near") {
   State in;
   in.x = {Vec3(std::numeric_limits<Real>::infinity(), 0, 0)};
   const State out = in;
@@ -74,4 +74,11 @@ TEST_CASE("reach grid: a path beyond the representable cells, or no reach, makes
   in.x = {Vec3::Zero()};
   build_reach_grid(in, in, {1}, 0, g);
   CHECK(g.everywhere);
+  // Two of five particles flagged: over a quarter, so no cells are listed; one of five is marked cell by cell.
+  in.x.assign(5, Vec3::Zero());
+  build_reach_grid(in, in, {1, 1, 0, 0, 0}, 0.1, g);
+  CHECK(g.everywhere);
+  build_reach_grid(in, in, {1, 0, 0, 0, 0}, 0.1, g);
+  CHECK_FALSE(g.everywhere);
+  CHECK(g.cells.size() == 27);
 }
