@@ -70,9 +70,13 @@ void prime_contact_holds(const Model& m, State& state, Workspace& ws, Real h) {
 
 std::vector<std::array<Index, 3>> list_proximities(const Model& m, const State& in, const State& out,
                                                    CollisionScratch& s, BroadMode mode) {
-  const Index count = find_proximities(m, in, out, s, mode);
+  find_proximities(m, in, out, s, mode);
+  return list_contacts(s);
+}
+
+std::vector<std::array<Index, 3>> list_contacts(const CollisionScratch& s) {
   std::vector<std::array<Index, 3>> found;
-  for (Index k = 0; k < count; ++k) {
+  for (Index k = 0; k < s.contact_count; ++k) {
     const Contact& c = s.contacts[std::size_t(k)];
     found.push_back({Index(c.kind), c.a, c.b});
   }

@@ -33,5 +33,7 @@ void prime_contact_holds(const Model& model, State& state, Workspace& ws, Real h
 // run (and for bvh, the model must hold a BVH).
 std::vector<std::array<Index, 3>> list_proximities(const Model& model, const State& in, const State& out,
                                                    CollisionScratch& s, BroadMode mode);
+// The pairs of the latest detection pass (s.contacts), listed and sorted as list_proximities lists them.
+std::vector<std::array<Index, 3>> list_contacts(const CollisionScratch& s);
 
 }  // namespace clothsim
