@@ -80,7 +80,9 @@ Real tip_deflection(const Strip& s, Integrator integrator, Real seconds, Real st
 // has e = (D/2) 0.8 k^2 at best (k_zz = k_xz = k/5 minimise it). The clamp holds the root untwisted, so the
 // converged tip lies between the beam's answer and 1.25 times it. Resolution independence is the claim tested:
 // successive refinements change the tip by a shrinking amount and the extrapolated tip is in that bracket.
-TEST_CASE("a cantilevered strip with dihedral bending converges to a tip within [1, 1.25] x q L^4 / (8 D)") {
+// This and the next are slow (explicit runs to a static tip, 2-3 minutes each under the sanitizers): the hinges'
+// kernels stay under the sanitizers through tests/unit/bend_forces_test.cpp and the implicit and thread cases below.
+TEST_CASE("a cantilevered strip with dihedral bending converges to a tip within 1 to 1.25 x q L^4 / (8 D)" * doctest::test_suite("slow")) {
   std::vector<Real> ratio;
   for (int n : {9, 17, 33}) {
     Strip s;
@@ -97,7 +99,7 @@ TEST_CASE("a cantilevered strip with dihedral bending converges to a tip within 
   CHECK(limit < 1.25);
 }
 
-TEST_CASE("every integrator brings the dihedral cantilever to the same static tip") {
+TEST_CASE("every integrator brings the dihedral cantilever to the same static tip" * doctest::test_suite("slow")) {
   Strip s;
   const Real reference = tip_deflection(s, Integrator::implicit, 2.0);
   for (Integrator integrator : {Integrator::euler, Integrator::symplectic, Integrator::rk4}) {
