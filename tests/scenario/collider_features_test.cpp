@@ -37,20 +37,6 @@ std::string pyramid_obj(const Vec3& apex, Real w, Real ht) {
                   {{1, 5, 4}, {1, 4, 3}, {1, 3, 2}, {1, 2, 5}, {2, 3, 4}, {2, 4, 5}});
 }
 
-// An axis-aligned box [lo, hi] (a thin pole when long in y).
-std::string box_obj(const Vec3& lo, const Vec3& hi) {
-  std::vector<Vec3> v;
-  for (int k = 0; k < 8; ++k) v.push_back(Vec3(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z()));
-  // Faces -x, +x, -y, +y, -z, +z as quads (1-based), each split into two outward triangles.
-  const int q[6][4] = {{1, 5, 7, 3}, {2, 4, 8, 6}, {1, 2, 6, 5}, {3, 7, 8, 4}, {1, 3, 4, 2}, {5, 6, 8, 7}};
-  std::vector<std::array<int, 3>> f;
-  for (const auto& r : q) {
-    f.push_back({r[0], r[1], r[2]});
-    f.push_back({r[0], r[2], r[3]});
-  }
-  return obj_text(v, f);
-}
-
 // Pairs (cloth triangle, collider triangle) where an edge of one crosses the other, at the collider's
 // end-of-step positions: brute force, sharing nothing with the collide stage.
 Index crossings(const Model& m, const State& s, const Workspace& ws) {
@@ -121,7 +107,8 @@ Real pole_top(int frame) { return std::min(-0.05 + 0.05 * (frame - 1), 0.15); }
 std::vector<std::string> pole_frames() {
   std::vector<std::string> f;
   for (int k = 1; k <= 8; ++k)
-    f.push_back(box_obj(pole_xz + Vec3(-0.005, pole_top(k) - 0.4, -0.005), pole_xz + Vec3(0.005, pole_top(k), 0.005)));
+    f.push_back(test::box_obj(pole_xz.x() - 0.005, pole_xz.x() + 0.005, pole_top(k) - 0.4, pole_top(k),
+                              pole_xz.z() - 0.005, pole_xz.z() + 0.005));
   return f;
 }
 
