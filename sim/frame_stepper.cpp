@@ -55,6 +55,7 @@ const char* verdict_name(StepVerdict v) {
     case StepVerdict::strain_jump: return "the largest strain jumped by more than 0.1 in one step";
     case StepVerdict::energy_jump: return "the mechanical energy rose past its bound";
     case StepVerdict::strain_limit: return "the strain limit stopped at its sweep cap with springs past maxStrain";
+    case StepVerdict::zones_unresolved: return "the impact zones stopped with pairs still to resolve";
   }
   return "";
 }
@@ -149,10 +150,17 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
     }
     if (verdict == StepVerdict::none && !(energy_rise(m, probe_kept ? probe_ : scratch) <= energy_bound_))
       verdict = StepVerdict::energy_jump;
+    // Impact zones that stopped with pairs left (docs/stability.md, "Automatic steps") in a step where a collider
+    // moved by more than travel_fraction of the thickness: a zone holding collider vertices takes their motion
+    // whole, and a smaller step splits that motion. Against still colliders halving did not resolve the zones
+    // (the sewn dress, docs/garments.md), so the cloth's own travel does not count. At the floor step it is kept.
+    if (verdict == StepVerdict::none && !probe_kept && !at_floor && result.counts.zones.unresolved > 0 &&
+        result.collider_travel > travel_fraction * m.collision.max_thickness)
+      verdict = StepVerdict::zones_unresolved;
     if (verdict != StepVerdict::none) {
       // Rejected: state still holds the step's start, untouched (step wrote into scratch only).
       ++report.rejected;
-      last_ = verdict;
+      last_ = report.last_rejection = verdict;
       if (at_floor) return false;
       ++level_;
       pos *= 2;

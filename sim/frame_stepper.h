@@ -11,7 +11,7 @@
 namespace clothsim::sim {
 
 // Why a step failed its check; `none` for a sound one.
-enum class StepVerdict { none, failed_solve, non_finite, strain_jump, energy_jump, strain_limit };
+enum class StepVerdict { none, failed_solve, non_finite, strain_jump, energy_jump, strain_limit, zones_unresolved };
 const char* verdict_name(StepVerdict verdict);
 // True when a strain jump past strain_before + strain_jump is the collide stage's alone and either no collider-mesh
 // vertex or cloth particle moved by more than travel_fraction of the thickness in the step, or the step is the
@@ -34,15 +34,18 @@ struct FrameSteps {
   Real smallest = 0, largest = 0;  // s, accepted steps
   int failed = 0;                  // accepted steps that failed their check and were kept
   StepFailure first_failure;       // the first of them
+  StepVerdict last_rejection = StepVerdict::none;  // why the frame's last rejected step was rejected
   std::vector<SolveRecord> solves; // implicit: every solve of the frame, rejected steps' included, in order
   StepCounts counts;               // what every step of the frame did, rejected ones included
 };
 
 // The checks: a step fails when its result failed (the implicit solve stopped at cgMaxIterations or a Newton
 // correction raised the residual), is not finite, raises the largest spring strain by more than strain_jump in
-// one step, or takes the mechanical energy past its start by more than the run's bound (energy_rise_bound,
-// systems/stability.h). With a fixed timestep only the implicit integrator's steps are checked, on the solve and
-// the strain; the frame's end is checked by the run's divergence guard (sim/simulation.h).
+// one step, takes the mechanical energy past its start by more than the run's bound (energy_rise_bound,
+// systems/stability.h), or (timestep="auto", above the floor step) ends with impact zones unresolved while a
+// collider-mesh vertex moved by more than travel_fraction of the thickness. With a fixed timestep only the
+// implicit integrator's steps are checked, on the solve and the strain; the frame's end is checked by the run's
+// divergence guard (sim/simulation.h).
 //
 // A rejection keeps the state the step started from (step writes into scratch only), halves the step and
 // retries; a strain jump that the collide stage made while neither collider nor cloth moved by a quarter of the

@@ -109,8 +109,10 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
                         [&] { return apply_strain_limit_on_contacts(model, out, h, s.contact_offset, hold); });
   }
   // The colliders' positions over the step, as the collide stage placed them.
-  if (measure)
-    result.travel = std::max(result.travel, largest_move(ws.collision.collider_x0, ws.collision.collider_x1));
+  if (measure) {
+    result.collider_travel = largest_move(ws.collision.collider_x0, ws.collision.collider_x1);
+    result.travel = std::max(result.travel, result.collider_travel);
+  }
   const auto t2 = clock::now();
   out.time = in.time + h;
   out.step = in.step + 1;

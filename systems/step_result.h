@@ -51,9 +51,9 @@ struct StepResult {
   // For timestep="auto" with collisions (sim/frame_stepper.h tells the collide stage's strain jumps from the
   // integrator's): the largest spring strain before the collide stage (-1: not measured), and the farthest travel
   // over the step of a collider-mesh vertex or of a cloth particle as the integrator moved it (h |v|, before the
-  // stitch and strain limits), m.
+  // stitch and strain limits), m; and the farthest a collider-mesh vertex alone moved, m.
   Real strain_before_collide = -1;
-  Real travel = 0;
+  Real travel = 0, collider_travel = 0;
 };
 
 }  // namespace clothsim

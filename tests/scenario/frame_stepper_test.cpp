@@ -5,10 +5,12 @@
 
 #include <cmath>
 #include <cstring>
+#include <random>
 
 #include "io/scene_family.h"
 #include "sim/frame_stepper.h"
 #include "systems/auto_step.h"
+#include "systems/collision/collision_check.h"
 #include "systems/diagnostics.h"
 #include "systems/spring_forces.h"
 #include "systems/strain_limit.h"
@@ -225,7 +227,7 @@ TEST_CASE("auto: a strain jump while a collider moves into the cloth by more tha
   const auto sc = load_collision_scene(dir / "scene.xml");
   const Real dt = sc.built.options.dt;
   int frames = 0;
-  run_frames(sc, [&](int f, const Model& m, const State& state, const Workspace&, const sim::FrameReport& r) {
+  run_frames(sc, [&](int f, const Model&, const State& state, const Workspace&, const sim::FrameReport& r) {
     if (f == sc.built.options.start_frame) return;
     ++frames;
     CHECK(state.time == doctest::Approx(0.01));
@@ -368,4 +370,101 @@ TEST_CASE("auto: a collide-stage jump that moving colliders still make at minTim
   xml.replace(xml.find(from), from.size(), R"(timestep="auto" minTimestep="0.006")");
   write_text(dir / "scene.xml", xml);
   check_kept_whole_step(load_collision_scene(dir / "scene.xml"), 0);
+}
+
+namespace {
+
+// Two equal sheets 1 cm apart (4 mm thick, no gravity) thrown at each other at 2 m/s each, every vertex's velocity
+// jittered by up to 0.3 m/s (seeded), with one continuous pass and one impact zone pass a step, under a plate
+// that comes down `drop` m in the frame towards the upper sheet (a two-frame OBJ sequence, 1 cm over it at first).
+sim::LoadedScene thrown_sheets(const std::string& name, const std::string& timestep, Real drop) {
+  const auto dir = scratch_dir(name);
+  auto plate = [](Real y) {  // facing down, the cloth's side
+    char text[200];
+    std::snprintf(text, sizeof text, "v -0.3 %.4f -0.3\nv -0.3 %.4f 0.3\nv 0.3 %.4f 0.3\nv 0.3 %.4f -0.3\nf 1 3 2\nf 1 4 3\n",
+                  y, y, y, y);
+    return std::string(text);
+  };
+  write_text(dir / "plate1.obj", plate(0.02));
+  write_text(dir / "plate2.obj", plate(0.02 - drop));
+  write_text(dir / "scene.xml", R"(<scene>
+  <simulation timestep=")" + timestep + R"(" fps="100" startFrame="1" endFrame="2" integrator="implicit"
+              gravity="0 0 0" collisionIterations="1" impactZoneIterations="1"/>
+  <cloth name="a" grid="6 6" size="0.2 0.2"><thickness value="0.004"/></cloth>
+  <cloth name="b" grid="7 7" size="0.2 0.2" translate="0.011 0.01 0.007"><thickness value="0.004"/></cloth>
+  <static sequence=")" + (dir / "plate#.obj").string() + R"("/>
+</scene>)");
+  sim::LoadedScene sc = load_collision_scene(dir / "scene.xml");
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<Real> u(-0.3, 0.3);
+  for (int k = 0; k < 2; ++k)
+    for (Index i = sc.built.model.cloths[k].particle_begin; i < sc.built.model.cloths[k].particle_end; ++i)
+      sc.built.state.v[i] = Vec3(u(rng), (k == 0 ? 2 : -2) + u(rng), u(rng));
+  return sc;
+}
+
+// The sheets' mean heights.
+Real mean_y(const Model& m, std::span<const Vec3> x, int k) {
+  Real y = 0;
+  for (Index i = m.cloths[k].particle_begin; i < m.cloths[k].particle_end; ++i) y += x[i].y();
+  return y / Real(m.cloths[k].particle_end - m.cloths[k].particle_begin);
+}
+
+struct ThrownEnd {
+  State state;
+  sim::FrameReport report;
+};
+
+ThrownEnd run_thrown(const sim::LoadedScene& sc) {
+  ThrownEnd end;
+  test::run_frames(sc, [&](int f, const Model&, const State& state, const Workspace&, const sim::FrameReport& r) {
+    if (f == sc.built.options.start_frame) return;
+    end.state = state;
+    end.report = r;
+  });
+  return end;
+}
+
+}  // namespace
+
+TEST_CASE("auto: a step whose impact zones stop unresolved while a collider moves is halved") {
+  // The sheets meet after 1.5 ms (6 mm closed at 4 m/s) near y = 5 mm and stop each other; the plate, 3 cm down in
+  // the frame, reaches them at 3 ms and carries them down with it, so they end one thickness under it and one
+  // under each other: y = -14 and -18 mm, 4 mm apart. One fixed 10 ms step leaves its zone unresolved, and the
+  // zone, holding plate vertices, takes the plate's motion whole: both sheets move 3 cm down rigidly, still 1 cm
+  // apart, as if they had never met.
+  const sim::LoadedScene fixed_scene = thrown_sheets("auto_zones_fixed", "0.01", 0.03);
+  const sim::LoadedScene auto_scene = thrown_sheets("auto_zones", "auto", 0.03);
+  const Model& m = auto_scene.built.model;
+  const ThrownEnd fixed = run_thrown(fixed_scene), autos = run_thrown(auto_scene);
+  const Real plate_end = -0.01, thickness = 0.004;
+  auto gap = [&](const State& s) { return mean_y(m, s.x, 1) - mean_y(m, s.x, 0); };
+  MESSAGE("mean heights of the sheets (lower, upper): fixed " << mean_y(m, fixed.state.x, 0) << ", "
+          << mean_y(m, fixed.state.x, 1) << " m; auto " << mean_y(m, autos.state.x, 0) << ", "
+          << mean_y(m, autos.state.x, 1) << " m in " << autos.report.steps.taken << " steps, "
+          << autos.report.steps.rejected << " rejected, the smallest " << autos.report.steps.smallest << " s");
+  CHECK(auto_scene.built.options.dt == 0.01);
+  CHECK(fixed.report.steps.counts.zones.unresolved == 1);
+  CHECK(gap(fixed.state) > 2 * thickness);
+  CHECK(count_intersecting_triangles(m, fixed.state.x) == 0);
+  // The automatic step rejects that step for its zones and halves it: the sheets meet, under the plate.
+  CHECK(autos.report.steps.rejected >= 1);
+  CHECK(autos.report.steps.last_rejection == StepVerdict::zones_unresolved);
+  CHECK(autos.report.steps.smallest < 0.01);
+  CHECK(gap(autos.state) > 0);
+  CHECK(gap(autos.state) < thickness);
+  CHECK(mean_y(m, autos.state.x, 1) < plate_end);
+  CHECK(count_intersecting_triangles(m, autos.state.x) == 0);
+}
+
+TEST_CASE("auto: impact zones left unresolved against a still collider are kept as a fixed step keeps them") {
+  // The same sheets under a plate that does not move: a smaller step would not split any collider's motion.
+  const sim::LoadedScene fixed_scene = thrown_sheets("auto_zones_still_fixed", "0.01", 0);
+  const sim::LoadedScene auto_scene = thrown_sheets("auto_zones_still", "auto", 0);
+  const ThrownEnd fixed = run_thrown(fixed_scene), autos = run_thrown(auto_scene);
+  CHECK(fixed.report.steps.counts.zones.unresolved == 1);
+  CHECK(autos.report.steps.counts.zones.unresolved == 1);
+  CHECK(autos.report.steps.rejected == 0);
+  CHECK(autos.report.steps.taken == 1);
+  CHECK(same_bytes(autos.state.x, fixed.state.x));
 }
