@@ -20,6 +20,13 @@ using LoadedCollisionScene = sim::LoadedScene;
 // The scene as `clothsim run` loads it (sim/load_scene.h): meshes, maps, rest shapes, colliders, auto step.
 inline sim::LoadedScene load_collision_scene(const std::filesystem::path& xml) { return sim::load_scene(xml.string()); }
 
+// The scene text `xml` written as scene.xml in a fresh scratch folder `name`, loaded as above.
+inline sim::LoadedScene load_scene_text(const std::string& name, const std::string& xml) {
+  const auto dir = scratch_dir(name);
+  write_text(dir / "scene.xml", xml);
+  return load_collision_scene(dir / "scene.xml");
+}
+
 // A scene of one self-colliding mesh cloth (`<generated>`: the test supplies the mesh) of the given thickness,
 // without gravity, 1 ms steps.
 inline SceneDesc self_colliding_scene(Real thickness) {

@@ -10,6 +10,11 @@
 
 namespace clothsim::test {
 
+// True when both hold the same positions (or velocities), byte for byte.
+inline bool same_bytes(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
+}
+
 // The state after `steps` steps of the options' dt, with at most `threads` worker threads.
 inline State state_after_steps(BuiltScene b, int steps, int threads) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);

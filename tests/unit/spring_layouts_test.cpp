@@ -11,6 +11,7 @@
 #include "systems/spring_forces.h"
 #include "tests/support/sheet_scene.h"
 #include "tests/support/spring_fixtures.h"
+#include "tests/support/thread_bytes.h"
 
 using namespace clothsim;
 
@@ -24,10 +25,6 @@ BuiltScene perturbed_sheet() {
   b.state.x[6] = b.state.x[5];
   build_particle_springs(b.model);  // the blocked default goes without it; these tests compare the layouts
   return b;
-}
-
-bool same_bytes(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
 }
 
 }  // namespace
@@ -67,9 +64,9 @@ TEST_CASE("gather and two-phase layouts give the same bytes at 1 and 2 threads")
     eval_springs_gather(m, b.state.x, b.state.v, gather2);
     eval_springs_two_phase(m, b.state.x, b.state.v, two2, scratch);
   }
-  CHECK(same_bytes(gather1, gather2));
-  CHECK(same_bytes(two1, two2));
-  CHECK(same_bytes(gather1, two1));
+  CHECK(test::same_bytes(gather1, gather2));
+  CHECK(test::same_bytes(two1, two2));
+  CHECK(test::same_bytes(gather1, two1));
   // Newton's third law: the spring forces of a free system sum to zero (up to rounding).
   Vec3 total = Vec3::Zero();
   for (const Vec3& fi : two1) total += fi;
@@ -112,8 +109,8 @@ TEST_CASE("blocked layout: same bytes at 1, 2 and 3 threads, equal to gather up 
     blocked[t - 1].resize(m.particle_count);
     eval_springs_blocked(m, b.state.x, b.state.v, blocked[t - 1]);
   }
-  CHECK(same_bytes(blocked[0], blocked[1]));
-  CHECK(same_bytes(blocked[0], blocked[2]));
+  CHECK(test::same_bytes(blocked[0], blocked[1]));
+  CHECK(test::same_bytes(blocked[0], blocked[2]));
   double worst = 0;
   for (Index i = 0; i < m.particle_count; ++i)
     worst = std::max(worst, (blocked[0][i] - gather[i]).norm() / std::max(1.0, gather[i].norm()));
@@ -160,7 +157,7 @@ TEST_CASE("blocked layout: bitwise the plain sequential sum in (pass, chunk, spr
       }
     tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
     eval_springs_blocked(m, b.state.x, b.state.v, blocked);
-    CHECK(same_bytes(reference, blocked));
+    CHECK(test::same_bytes(reference, blocked));
   }
 }
 
