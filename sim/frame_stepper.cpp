@@ -160,7 +160,7 @@ bool FrameStepper::advance_frame(const Model& m, const SimOptions& o, State& sta
     if (verdict != StepVerdict::none) {
       // Rejected: state still holds the step's start, untouched (step wrote into scratch only).
       ++report.rejected;
-      last_ = report.last_rejection = verdict;
+      report.last_rejection = verdict;
       if (at_floor) return false;
       ++level_;
       pos *= 2;

@@ -78,7 +78,6 @@ class FrameStepper {
   // is then the last accepted one, inside the frame.
   bool advance_frame(const Model& model, const SimOptions& options, State& state, State& scratch, Workspace& ws,
                      FrameSteps& report);
-  StepVerdict last_rejection() const { return last_; }
   // The step the stepper takes now: options.dt with a fixed timestep.
   Real current_step(const SimOptions& options) const;
 
@@ -106,7 +105,6 @@ class FrameStepper {
   int easy_ = 0;   // accepted steps in a row at this level
   int floor_level_ = 0;  // floor_level(options) of the frame
   bool fast_grow_ = false;  // since the last rejection, a jump was kept: grow at every aligned point
-  StepVerdict last_ = StepVerdict::none;
 };
 
 }  // namespace clothsim::sim

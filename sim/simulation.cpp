@@ -94,7 +94,7 @@ FrameReport Simulation::advance_frame() {
     char reason[200];
     if (!stepped)
       std::snprintf(reason, sizeof reason, "a step below minTimestep %.3g s was rejected: %s", options_.min_dt,
-                    verdict_name(stepper_.last_rejection()));
+                    verdict_name(r.steps.last_rejection));
     else if (finite && torn)
       std::snprintf(reason, sizeof reason, "the largest spring strain rose from %.3g to %.3g within one frame, "
                     "past the %.2g no cloth stretches in a frame", last_strain_, strain, frame_strain_jump);
