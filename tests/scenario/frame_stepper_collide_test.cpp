@@ -99,9 +99,7 @@ std::string plate_scene(const std::string& name) {
 TEST_CASE("auto: a strain jump while a collider moves into the cloth by more than a quarter thickness is halved") {
   // The whole step lifts the centre 6 cm (strain 0.166 on its four springs); the probe at minTimestep lifts it
   // nothing, so the jump comes from the plate's motion and the step is halved.
-  const auto dir = scratch_dir("auto_moving");
-  write_text(dir / "scene.xml", plate_scene("auto_moving_mesh"));
-  const auto sc = load_collision_scene(dir / "scene.xml");
+  const auto sc = load_scene_text("auto_moving", plate_scene("auto_moving_mesh"));
   const Real dt = sc.built.options.dt;
   int frames = 0;
   run_frames(sc, [&](int f, const Model&, const State& state, const Workspace&, const sim::FrameReport& r) {
@@ -141,9 +139,7 @@ TEST_CASE("auto: a collide-stage jump that a step at minTimestep still makes is 
   // The needle through the sheet moving 2 cm in the frame: its probe at minTimestep (10 ms / 1024) still pushes the
   // sheet's edges out to the thickness (the pierce, not the motion), so the probe's step is kept and reported in
   // place of the 10 ms step, and the steps grow back over the rest of the frame.
-  const auto dir = scratch_dir("auto_moving_pierced");
-  write_text(dir / "scene.xml", needle_scene("auto_moving_pierced_mesh", "auto", true));
-  const auto sc = load_collision_scene(dir / "scene.xml");
+  const auto sc = load_scene_text("auto_moving_pierced", needle_scene("auto_moving_pierced_mesh", "auto", true));
   const Real dt = sc.built.options.dt, floor_step = std::ldexp(dt, -10);
   int frames = 0;
   run_frames(sc, [&](int f, const Model&, const State& state, const Workspace&, const sim::FrameReport& r) {
@@ -241,12 +237,10 @@ TEST_CASE("auto: the strain limit's corrections in a pierced sheet do not count 
 TEST_CASE("auto: a collide-stage jump that moving colliders still make at minTimestep is kept, not a stop") {
   // The moving needle of the test above with minTimestep 6 ms: the 10 ms step may not halve, and its jump is the
   // collide stage's (the strain before it stays 0), so it is kept and reported at 10 ms where the run used to stop.
-  const auto dir = scratch_dir("auto_floor");
   std::string xml = needle_scene("auto_floor_mesh", "auto", true);
   const std::string from = R"(timestep="auto")";
   xml.replace(xml.find(from), from.size(), R"(timestep="auto" minTimestep="0.006")");
-  write_text(dir / "scene.xml", xml);
-  check_kept_whole_step(load_collision_scene(dir / "scene.xml"), 0);
+  check_kept_whole_step(load_scene_text("auto_floor", xml), 0);
 }
 
 namespace {

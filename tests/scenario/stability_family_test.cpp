@@ -23,9 +23,7 @@ constexpr int stable_steps_run = 400;    // at least 60 periods of the stiffest 
 constexpr int unstable_steps_run = 2000; // the slowest growth in the family (explicit Euler, light damping)
 
 BuiltScene load_family(int seed) {
-  const auto dir = scratch_dir("family_" + std::to_string(seed));
-  write_text(dir / "scene.xml", io::family_scene(seed).xml);
-  BuiltScene b = load_collision_scene(dir / "scene.xml").built;
+  BuiltScene b = load_scene_text("family_" + std::to_string(seed), io::family_scene(seed).xml).built;
   io::perturb_start(b.model, b.state, 1e-4);
   return b;
 }
@@ -80,9 +78,7 @@ Real dense_euler_limit(const Model& m, const std::vector<Vec3>& x) {
 TEST_CASE("explicit Euler's floor (kd/ke)_min + c / w_max^2 holds where the probes do not: family scene 6") {
   // Bend springs at 0.1 ke with the same kd: kd/ke differs between springs, and no probe is an exact mode. At
   // rest (unperturbed) every spring is straight at its rest length, so K = sum ke n n^T, as the estimate takes it.
-  const auto dir = scratch_dir("family_floor");
-  write_text(dir / "scene.xml", io::family_scene(6).xml);
-  const BuiltScene b = load_collision_scene(dir / "scene.xml").built;
+  const BuiltScene b = load_scene_text("family_floor", io::family_scene(6).xml).built;
   const DampedModes d = estimate_modes(b.model, b.state.x);
   const Real probes = std::min(mode_step_limit(Integrator::euler, d.omega_max, d.gamma_of_stiff),
                                mode_step_limit(Integrator::euler, d.omega_of_damped, d.gamma_max));
