@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "core/attachments.h"
+#include "core/seams.h"
 #include "core/topology.h"
 #include "core/transform.h"
 
@@ -77,74 +78,6 @@ void build_vertex_tris(CollisionModel& c) {
   for (Index v = 0; v < nv; ++v)
     if (c.mesh_vertex_tri_offset[v] < c.mesh_vertex_tri_offset[v + 1])
       c.mesh_vertex_first_tri[v] = c.mesh_vertex_tri[c.mesh_vertex_tri_offset[v]];
-}
-
-// The point a stitch sews its vertex to, when that point is one of the two vertices (w = 0 or 1, or b = c), or -1.
-Index coincident_partner(const Model& m, Index s) {
-  if (m.stitch_w[s] == 0 || m.stitch_b[s] == m.stitch_c[s]) return m.stitch_b[s];
-  if (m.stitch_w[s] == 1) return m.stitch_c[s];
-  return -1;
-}
-
-Index group_root(std::vector<Index>& parent, Index i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
-
-// The seam CSR. Vertices sewn to coincide (a stitch with w = 0 or 1), directly or through a chain of such
-// stitches, are one point of the garment: where three or four panels meet, a vertex is sewn to a second, which
-// is sewn to a third, and the first and third touch as closely as the first two. So each particle's row lists
-// its group (the chains' union) and the groups of the particles any member is stitched to (a, b and c of a
-// stitch); a row sorted, without repeats or the particle itself.
-void build_seams(const Model& m, CollisionModel& c) {
-  std::vector<Index> parent(std::size_t(m.particle_count));
-  for (Index i = 0; i < m.particle_count; ++i) parent[i] = i;
-  for (Index s = 0; s < m.stitch_count; ++s) {
-    const Index o = coincident_partner(m, s);
-    if (o >= 0) parent[group_root(parent, m.stitch_a[s])] = group_root(parent, o);
-  }
-  // The members of each group, by root: the stitched particles only.
-  std::vector<std::pair<Index, Index>> member;  // (root, particle)
-  std::vector<std::pair<Index, Index>> links;   // (particle, stitched partner), both ways
-  for (Index s = 0; s < m.stitch_count; ++s)
-    for (const Index o : {m.stitch_b[s], m.stitch_c[s]}) {
-      links.emplace_back(m.stitch_a[s], o);
-      links.emplace_back(o, m.stitch_a[s]);
-    }
-  for (const auto& [i, o] : links) member.emplace_back(group_root(parent, i), i);
-  std::sort(member.begin(), member.end());
-  member.erase(std::unique(member.begin(), member.end()), member.end());
-  auto group_of = [&](Index i) {
-    const Index r = group_root(parent, i);
-    const auto lo = std::lower_bound(member.begin(), member.end(), std::make_pair(r, Index(-1)));
-    auto hi = lo;
-    while (hi != member.end() && hi->first == r) ++hi;
-    return std::make_pair(lo, hi);
-  };
-  std::vector<std::pair<Index, Index>> rows;
-  for (const auto& [u, o] : links) {  // every member of u's group to every member of its partner's
-    const auto [ulo, uhi] = group_of(u);
-    const auto [olo, ohi] = group_of(o);
-    for (auto i = ulo; i != uhi; ++i)
-      for (auto j = olo; j != ohi; ++j) rows.emplace_back(i->second, j->second);
-  }
-  for (auto lo = member.begin(); lo != member.end();) {  // the members of a group to each other
-    auto hi = lo;
-    while (hi != member.end() && hi->first == lo->first) ++hi;
-    for (auto i = lo; i != hi; ++i)
-      for (auto j = lo; j != hi; ++j) rows.emplace_back(i->second, j->second);
-    lo = hi;
-  }
-  std::sort(rows.begin(), rows.end());
-  rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-  c.seam_offset.assign(std::size_t(m.particle_count) + 1, 0);
-  c.seam_index.clear();
-  for (const auto& [i, j] : rows) {
-    if (i == j) continue;
-    ++c.seam_offset[i + 1];
-    c.seam_index.push_back(j);
-  }
-  for (Index i = 0; i < m.particle_count; ++i) c.seam_offset[i + 1] += c.seam_offset[i];
 }
 
 }  // namespace

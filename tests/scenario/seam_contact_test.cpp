@@ -112,6 +112,53 @@ TEST_CASE("seam adjacency: vertices sewn to coincide through a chain are one poi
   CHECK_FALSE(c.vertex_meets_cloth_triangle(18, tri_a));  // a corner is 18's own point
 }
 
+// Two 3 x 3 panels 4 mm apart vertex to vertex (a 8 mm square each), B's first column (9, 12, 15) sewn to A's
+// last (2, 5, 8), far apart in space: only the seam graph matters. The grid's triangles cut each square along
+// (i + 1, j)-(i, j + 1), so 2-4, 5-7, 10-12 and 13-15 are 5.66 mm diagonals.
+BuiltScene fine_seam(Real thickness) {
+  SceneDesc s = test::self_colliding_scene(thickness);
+  const MeshData g = make_grid_mesh(3, 3, 0.008, 0.008);
+  MeshData mesh = g;
+  for (const Vec3& x : g.positions) mesh.positions.push_back(x + Vec3(0.5, 0, 0));
+  for (Index t : g.tri_index) mesh.tri_index.push_back(9 + t);
+  mesh.uvs.clear();
+  mesh.tri_uv.clear();
+  for (int j = 0; j < 3; ++j) {
+    mesh.stitch_a.push_back(9 + 3 * j);
+    mesh.stitch_b.push_back(3 * j + 2);
+    mesh.stitch_c.push_back(3 * j + 2);
+    mesh.stitch_w.push_back(0);
+  }
+  BuiltScene b = build_model(s, std::vector<MeshData>{mesh});
+  build_collision(s, {}, b.state.x, b.model);
+  return b;
+}
+
+std::vector<Index> seam_row(const CollisionModel& c, Index i) {
+  return {c.seam_index.begin() + c.seam_offset[i], c.seam_index.begin() + c.seam_offset[i + 1]};
+}
+
+TEST_CASE("seam reach: particles within two thicknesses of each other at rest through a seam are neighbours") {
+  // 3 mm thick: a reach of 6 mm. By hand, pair (2, 9): 2's ball is {2: 0, 1: 4, 5: 4, 4: 5.66 mm}, 9's
+  // {9: 0, 10: 4, 12: 4}; pair (5, 12): 5's {5: 0, 2, 4, 8: 4, 7: 5.66}, 12's {12: 0, 9, 13, 15: 4, 10: 5.66};
+  // a pair joins u and v when their two distances sum to 6 mm or less.
+  const BuiltScene b = fine_seam(0.003);
+  const CollisionModel& c = b.model.collision;
+  CHECK(seam_row(c, 9) == std::vector<Index>{1, 2, 4, 5});
+  CHECK(seam_row(c, 12) == std::vector<Index>{2, 4, 5, 7, 8});
+  CHECK(seam_row(c, 2) == std::vector<Index>{9, 10, 12});
+  CHECK(seam_row(c, 10) == std::vector<Index>{2, 5});
+  CHECK_FALSE(c.joined(0, 4));  // 5.66 mm apart on one panel: the mesh alone joins nothing
+  CHECK_FALSE(c.joined(1, 10));  // 4 + 4 mm
+  const Index next_ring[3] = {4, 5, 7};
+  CHECK_FALSE(c.vertex_meets_cloth_triangle(9, next_ring));
+  // 1 mm thick (a 2 mm reach): the sewn rows alone.
+  const BuiltScene thin = fine_seam(0.001);
+  CHECK(seam_row(thin.model.collision, 9) == std::vector<Index>{2});
+  CHECK(seam_row(thin.model.collision, 2) == std::vector<Index>{9});
+  CHECK(seam_row(thin.model.collision, 12) == std::vector<Index>{5});
+}
+
 TEST_CASE("panels lapped at a seam: intersections and contact pairs without the stitches, none with them") {
   for (bool sew : {false, true}) {
     CAPTURE(sew);
@@ -154,7 +201,9 @@ TEST_CASE("the draped Codim-IPC dress: its intersecting triangle pairs are seams
   build_collision(s, {}, b.state.x, b.model);
   CHECK(count_intersecting_triangles(b.model, b.state.x) == 0);
   // The seam rows, counted by an independent script (a union-find over the 545 stitches with w = 0 or 1, then
-  // each stitched vertex's group and its partners' groups): 6,832 entries, where the direct links alone give
-  // 3,340. The 395 groups have 2 (331), 3 (30) or 4 (34) vertices: junctions of up to four panels.
-  CHECK(b.model.collision.seam_index.size() == 6832);
+  // each stitched vertex's group and its partners' groups): 6,832 sewn entries, where the direct links alone
+  // give 3,340. The 395 groups have 2 (331), 3 (30) or 4 (34) vertices: junctions of up to four panels. The
+  // seam reach (6 mm at 3 mm thick: a Dijkstra over the triangle edges from both ends of every sewn pair, in
+  // the same script) brings the table to 13,276.
+  CHECK(b.model.collision.seam_index.size() == 13276);
 }
