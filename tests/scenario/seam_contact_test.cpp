@@ -18,19 +18,13 @@ using namespace clothsim;
 
 namespace {
 
-// Panel A: 3 x 3 vertices, 0.2 m square in the plane y = 0 (x, z in [-0.1, 0.1]). Panel B: the same grid tilted
-// down by atan(0.12) about the z axis, its first column at x = 0.08, y = +2 mm, so B's first strip of triangles
-// passes through A's last strip (x in [0, 0.1]) at x = 0.0967. With `sew`, B's first column is stitched to A's
-// last column (vertex to vertex).
-BuiltScene lapped_panels(bool sew) {
-  const SceneDesc s = test::self_colliding_scene(0.001);
-  const MeshData g = make_grid_mesh(3, 3, 0.2, 0.2);
+// Panel A, the 3 x 3 grid g, and panel B, g's vertices placed by place(x); with `sew`, B's first column
+// (9, 12, 15) stitched to A's last (2, 5, 8), vertex to vertex. Built with the collision model of `s`.
+template <class Place>
+BuiltScene two_panels(const SceneDesc& s, const MeshData& g, Place&& place, bool sew) {
   MeshData mesh = g;
   const Index n = g.vertex_count();
-  for (Index v = 0; v < n; ++v) {
-    const Real u = g.positions[v].x() + 0.1;  // 0, 0.1, 0.2 along the panel
-    mesh.positions.push_back(Vec3(0.08 + u, 0.002 - 0.12 * u, g.positions[v].z()));
-  }
+  for (const Vec3& x : g.positions) mesh.positions.push_back(place(x));
   for (Index t : g.tri_index) mesh.tri_index.push_back(n + t);
   mesh.uvs.clear();
   mesh.tri_uv.clear();
@@ -44,6 +38,18 @@ BuiltScene lapped_panels(bool sew) {
   BuiltScene b = build_model(s, std::vector<MeshData>{mesh});
   build_collision(s, {}, b.state.x, b.model);
   return b;
+}
+
+// Panel A: 3 x 3 vertices, 0.2 m square in the plane y = 0 (x, z in [-0.1, 0.1]). Panel B: the same grid tilted
+// down by atan(0.12) about the z axis, its first column at x = 0.08, y = +2 mm, so B's first strip of triangles
+// passes through A's last strip (x in [0, 0.1]) at x = 0.0967. With `sew`, B's first column is stitched to A's
+// last column (vertex to vertex).
+BuiltScene lapped_panels(bool sew) {
+  const auto place = [](const Vec3& x) {
+    const Real u = x.x() + 0.1;  // 0, 0.1, 0.2 along the panel
+    return Vec3(0.08 + u, 0.002 - 0.12 * u, x.z());
+  };
+  return two_panels(test::self_colliding_scene(0.001), make_grid_mesh(3, 3, 0.2, 0.2), place, sew);
 }
 
 }  // namespace
@@ -116,22 +122,8 @@ TEST_CASE("seam adjacency: vertices sewn to coincide through a chain are one poi
 // last (2, 5, 8), far apart in space: only the seam graph matters. The grid's triangles cut each square along
 // (i + 1, j)-(i, j + 1), so 2-4, 5-7, 10-12 and 13-15 are 5.66 mm diagonals.
 BuiltScene fine_seam(Real thickness) {
-  SceneDesc s = test::self_colliding_scene(thickness);
-  const MeshData g = make_grid_mesh(3, 3, 0.008, 0.008);
-  MeshData mesh = g;
-  for (const Vec3& x : g.positions) mesh.positions.push_back(x + Vec3(0.5, 0, 0));
-  for (Index t : g.tri_index) mesh.tri_index.push_back(9 + t);
-  mesh.uvs.clear();
-  mesh.tri_uv.clear();
-  for (int j = 0; j < 3; ++j) {
-    mesh.stitch_a.push_back(9 + 3 * j);
-    mesh.stitch_b.push_back(3 * j + 2);
-    mesh.stitch_c.push_back(3 * j + 2);
-    mesh.stitch_w.push_back(0);
-  }
-  BuiltScene b = build_model(s, std::vector<MeshData>{mesh});
-  build_collision(s, {}, b.state.x, b.model);
-  return b;
+  return two_panels(test::self_colliding_scene(thickness), make_grid_mesh(3, 3, 0.008, 0.008),
+                    [](const Vec3& x) { return Vec3(x + Vec3(0.5, 0, 0)); }, true);
 }
 
 std::vector<Index> seam_row(const CollisionModel& c, Index i) {
