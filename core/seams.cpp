@@ -6,7 +6,6 @@
 #include <utility>
 #include <vector>
 
-
 namespace clothsim {
 namespace {
 
@@ -22,11 +21,11 @@ Index group_root(std::vector<Index>& parent, Index i) {
   return i;
 }
 
-// The sewn rows, (particle, neighbour) in both orders. Vertices sewn to coincide (a stitch with w = 0 or 1), directly or through a chain of such
-// stitches, are one point of the garment: where three or four panels meet, a vertex is sewn to a second, which
-// is sewn to a third, and the first and third touch as closely as the first two. So each particle's row lists
-// its group (the chains' union) and the groups of the particles any member is stitched to (a, b and c of a
-// stitch).
+// The sewn rows, (particle, neighbour) in both orders, with repeats. Vertices sewn to coincide (a stitch with
+// w = 0 or 1), directly or through a chain of such stitches, are one point of the garment: where three or four
+// panels meet, a vertex is sewn to a second, which is sewn to a third, and the first and third touch as closely
+// as the first two. So each particle's row lists its group (the chains' union) and the groups of the particles
+// any member is stitched to (a, b and c of a stitch).
 std::vector<std::pair<Index, Index>> sewn_rows(const Model& m) {
   std::vector<Index> parent(std::size_t(m.particle_count));
   for (Index i = 0; i < m.particle_count; ++i) parent[i] = i;
@@ -84,8 +83,9 @@ RestGraph rest_graph(const Model& m) {
   for (Index t = 0; t < m.tri_count; ++t)
     for (int k = 0; k < 3; ++k) {
       const Index p = m.tri_index[3 * t + k], q = m.tri_index[3 * t + (k + 1) % 3];
-      const auto lo = std::lower_bound(rest.begin(), rest.end(), std::make_tuple(std::min(p, q), std::max(p, q), Real(0)));
-      if (lo == rest.end() || std::get<0>(*lo) != std::min(p, q) || std::get<1>(*lo) != std::max(p, q)) continue;
+      const Index lo_end = std::min(p, q), hi_end = std::max(p, q);
+      const auto lo = std::lower_bound(rest.begin(), rest.end(), std::make_tuple(lo_end, hi_end, Real(0)));
+      if (lo == rest.end() || std::get<0>(*lo) != lo_end || std::get<1>(*lo) != hi_end) continue;
       arcs.emplace_back(p, q, std::get<2>(*lo));
       arcs.emplace_back(q, p, std::get<2>(*lo));
     }
