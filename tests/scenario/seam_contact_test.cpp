@@ -52,6 +52,11 @@ BuiltScene lapped_panels(bool sew) {
   return two_panels(test::self_colliding_scene(0.001), make_grid_mesh(3, 3, 0.2, 0.2), place, sew);
 }
 
+// Particle i's row of the seam table.
+std::vector<Index> seam_row(const CollisionModel& c, Index i) {
+  return {c.seam_index.begin() + c.seam_offset[i], c.seam_index.begin() + c.seam_offset[i + 1]};
+}
+
 }  // namespace
 
 TEST_CASE("seam adjacency: a sewn vertex is a neighbour of the vertices it is sewn to, not of theirs") {
@@ -110,10 +115,8 @@ TEST_CASE("seam adjacency: vertices sewn to coincide through a chain are one poi
   CHECK_FALSE(c.joined(6, 2));
   CHECK_FALSE(c.joined(18, 15));
   CHECK(c.joined(1, 18));  // 1 is stitched to 9, so to all of its point
-  const std::vector<Index> row18(c.seam_index.begin() + c.seam_offset[18], c.seam_index.begin() + c.seam_offset[19]);
-  CHECK(row18 == std::vector<Index>{1, 2, 9});
-  const std::vector<Index> row20(c.seam_index.begin() + c.seam_offset[20], c.seam_index.begin() + c.seam_offset[21]);
-  CHECK(row20 == std::vector<Index>{11, 14});
+  CHECK(seam_row(c, 18) == std::vector<Index>{1, 2, 9});
+  CHECK(seam_row(c, 20) == std::vector<Index>{11, 14});
   const Index tri_a[3] = {1, 4, 2};
   CHECK_FALSE(c.vertex_meets_cloth_triangle(18, tri_a));  // a corner is 18's own point
 }
@@ -124,10 +127,6 @@ TEST_CASE("seam adjacency: vertices sewn to coincide through a chain are one poi
 BuiltScene fine_seam(Real thickness) {
   return two_panels(test::self_colliding_scene(thickness), make_grid_mesh(3, 3, 0.008, 0.008),
                     [](const Vec3& x) { return Vec3(x + Vec3(0.5, 0, 0)); }, true);
-}
-
-std::vector<Index> seam_row(const CollisionModel& c, Index i) {
-  return {c.seam_index.begin() + c.seam_offset[i], c.seam_index.begin() + c.seam_offset[i + 1]};
 }
 
 TEST_CASE("seam reach: particles within two thicknesses of each other at rest through a seam are neighbours") {
