@@ -61,7 +61,7 @@ struct CollisionModel {
   bool cloth_contact = false;      // some pair of cloths (a cloth with itself included) is tested
   int iterations = 0;              // detection + response passes per step
   int zone_iterations = 0;         // rigid impact zone passes per step when crossings remain (0: none)
-  BroadPhase broad_phase = BroadPhase::hash;
+  BroadPhase broad_phase = BroadPhase::bvh;
   std::vector<ColliderInfo> colliders;
 
   // --- collider meshes, all colliders' vertices and triangles concatenated

@@ -57,7 +57,7 @@ struct SimulationDesc {
   int newton_iterations = 1;
   Preconditioner preconditioner = Preconditioner::multigrid;
   bool contact_filter = true;  // implicit: particles touching a collider are held on it in the solve
-  BroadPhase broad_phase = BroadPhase::hash;
+  BroadPhase broad_phase = BroadPhase::bvh;
   int checkpoint_every = 0;    // frames between checkpoints (and one at the end); 0: none (io/checkpoint.h)
   bool cloth_collision = true; // different cloths collide with each other (a cloth with itself: selfCollision)
 };

@@ -91,7 +91,7 @@ void read_simulation(const std::string& file, const std::string& text, pugi::xml
   if (r.has("preconditioner") && !enum_from_name(preconditioner_names, r.text("preconditioner"), sim.preconditioner))
     r.bad("preconditioner", "jacobi, multigrid or cholesky");
   sim.contact_filter = r.boolean("contactFilter", sim.contact_filter);
-  if (!enum_from_name(broad_phase_names, r.text("broadPhase", "hash"), sim.broad_phase))
+  if (!enum_from_name(broad_phase_names, r.text("broadPhase", "bvh"), sim.broad_phase))
     r.bad("broadPhase", "hash or bvh");
   sim.checkpoint_every = r.integer("checkpointEvery", sim.checkpoint_every);
   if (sim.checkpoint_every < 0) r.bad("checkpointEvery", "a number of frames >= 0 (0: no checkpoints)");

@@ -205,6 +205,28 @@ TEST_CASE("cloth pairs: two crumpled sheets report only pairs of different cloth
   CHECK(edge_pairs > 50);
 }
 
+TEST_CASE("a scene that names no broad phase gets the BVH: no hash is built, the brute-force pairs are found") {
+  auto sc = load_xml("default_broad", R"(<scene>
+      <cloth name="a" grid="12 12" size="0.5 0.5"><thickness value="0.02"/></cloth>
+      <cloth name="b" grid="12 12" size="0.5 0.5"><thickness value="0.02"/></cloth></scene>)");
+  const Model& m = sc.built.model;
+  REQUIRE(m.collision.broad_phase == BroadPhase::bvh);
+  CHECK(broad_mode(m.collision) == BroadMode::bvh);
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<Real> height(-0.04, 0.04), small(-0.005, 0.005);
+  State in = sc.built.state, out = in;
+  for (std::size_t i = 0; i < in.x.size(); ++i) {
+    in.x[i].y() += height(rng);
+    out.x[i] = in.x[i] + Vec3(small(rng), small(rng), small(rng));
+  }
+  Workspace ws = make_workspace(m, sc.built.options);
+  build_broad_phase(m, in, out, ws.collision);
+  CHECK(ws.collision.hash.table_size == 0);
+  const auto by_brute = list_proximities(m, in, out, ws.collision, BroadMode::brute);
+  CHECK(by_brute.size() > 100);
+  CHECK(list_proximities(m, in, out, ws.collision, broad_mode(m.collision)) == by_brute);
+}
+
 namespace {
 
 // The upper sheet never went under the lower, no triangles intersected, and it rests on it at the end.

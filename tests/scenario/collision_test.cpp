@@ -278,7 +278,7 @@ TEST_CASE("a cloth blown up within a step: the hash enlarges its cell to stay wi
   // A diverging cloth swells its swept boxes before the frame's divergence check can stop the run; at the
   // model's cell one box would cover ~1e20 cells (11.8 GB of entries were seen before the process was killed).
   const auto dir = scratch_dir("collision_blown");
-  write_text(dir / "s.xml", R"(<scene>
+  write_text(dir / "s.xml", R"(<scene><simulation broadPhase="hash"/>
   <cloth name="c" grid="20 20" size="0.6 0.6" selfCollision="true"><thickness value="0.02"/></cloth>
 </scene>)");
   auto sc = load_collision_scene(dir / "s.xml");

@@ -328,7 +328,7 @@ TEST_CASE("the zones' later passes find the same pairs walking only the elements
         if (z.flag[p[k]] & zone_member) return true;
       return false;
     };
-    find_crossings(m, in, out, s, BroadMode::hash, member);
+    find_crossings(m, in, out, s, broad_mode(m.collision), member);
     const auto everywhere = list_contacts(s);
     gather_reach_boxes(m, in, out, s, z);
     CHECK(z.reach_box.size() <= 3);
@@ -338,7 +338,7 @@ TEST_CASE("the zones' later passes find the same pairs walking only the elements
       walked.fetch_add(1);
       return true;
     };
-    find_crossings(m, in, out, s, BroadMode::hash, member, near);
+    find_crossings(m, in, out, s, broad_mode(m.collision), member, near);
     const Index elements = m.particle_count + Index(m.collision.edge_a.size());
     INFO("trial " << trial << ": " << everywhere.size() << " pairs, " << walked.load() << " of " << elements
                   << " elements walked");
@@ -365,9 +365,9 @@ TEST_CASE("a continuous pass after the first finds the same pairs retesting only
     Workspace ws = make_workspace(m, sc.built.options);
     CollisionScratch& s = ws.collision;
     build_broad_phase(m, in, out, s);
-    const std::int64_t first = collide_continuous(m, in, out, s, BroadMode::hash, sc.built.options.dt, false);
+    const std::int64_t first = collide_continuous(m, in, out, s, broad_mode(m.collision), sc.built.options.dt, false);
     build_cloth_broad_phase(m, in, out, s);
-    find_crossings(m, in, out, s, BroadMode::hash, [](const Index*, int) { return true; });
+    find_crossings(m, in, out, s, broad_mode(m.collision), [](const Index*, int) { return true; });
     const auto everywhere = list_contacts(s);
     build_reach_grid(in, out, s.crossed, reach_of_a_particle(m, s), s.crossed_reach);
     std::atomic<Index> walked{0};
@@ -376,8 +376,9 @@ TEST_CASE("a continuous pass after the first finds the same pairs retesting only
       walked.fetch_add(1);
       return true;
     };
-    find_crossings(m, in, out, s, BroadMode::hash, [&](const Index* p, int count) { return crossed(s, p, count); },
-                   near);
+    find_crossings(
+        m, in, out, s, broad_mode(m.collision), [&](const Index* p, int count) { return crossed(s, p, count); },
+        near);
     const Index elements = m.particle_count + Index(m.collision.edge_a.size());
     const Index marked = Index(std::count(s.crossed.begin(), s.crossed.end(), 1));
     INFO("trial " << trial << ": " << first << " responses in the first pass, " << marked << " particles moved, "
