@@ -165,24 +165,38 @@ TEST_CASE("cloth pairs: model no more than the scene needs") {
   }
 }
 
-TEST_CASE("cloth pairs: two crumpled sheets report only pairs of different cloths, the same by hash, BVH, brute") {
-  std::string xml[2];
-  for (int k = 0; k < 2; ++k)
-    xml[k] = std::string(R"(<scene><simulation broadPhase=")") + (k ? "bvh" : "hash") + R"("/>
+namespace {
+
+// The body of a scene of two 12 x 12 sheets of 0.5 m, 2 cm thick, in the same place, after <scene> and any
+// <simulation>.
+const char* two_sheets_xml = R"(
       <cloth name="a" grid="12 12" size="0.5 0.5"><thickness value="0.02"/></cloth>
       <cloth name="b" grid="12 12" size="0.5 0.5"><thickness value="0.02"/></cloth></scene>)";
-  auto hash = load_xml("crumpled_hash", xml[0]);
-  auto bvh = load_xml("crumpled_bvh", xml[1]);
-  const Model& m = hash.built.model;
-  std::mt19937 rng(11);
+
+// The sheets crumpled: heights scattered over 8 cm at the step's start, each vertex moved by up to 5 mm an axis.
+void crumple_sheets(std::uint32_t seed, State& in, State& out) {
+  std::mt19937 rng(seed);
   std::uniform_real_distribution<Real> height(-0.04, 0.04), small(-0.005, 0.005);
-  // Both sheets in the same place, heights scattered over 8 cm: each sheet is within the thickness of itself
-  // as much as of the other, so a pair of one cloth would show up if the filter let it through.
-  State in = hash.built.state, out = in;
+  out = in;
   for (std::size_t i = 0; i < in.x.size(); ++i) {
     in.x[i].y() += height(rng);
     out.x[i] = in.x[i] + Vec3(small(rng), small(rng), small(rng));
   }
+}
+
+}  // namespace
+
+TEST_CASE("cloth pairs: two crumpled sheets report only pairs of different cloths, the same by hash, BVH, brute") {
+  std::string xml[2];
+  for (int k = 0; k < 2; ++k)
+    xml[k] = std::string(R"(<scene><simulation broadPhase=")") + (k ? "bvh" : "hash") + "\"/>" + two_sheets_xml;
+  auto hash = load_xml("crumpled_hash", xml[0]);
+  auto bvh = load_xml("crumpled_bvh", xml[1]);
+  const Model& m = hash.built.model;
+  // Both sheets in the same place, heights scattered over 8 cm: each sheet is within the thickness of itself
+  // as much as of the other, so a pair of one cloth would show up if the filter let it through.
+  State in = hash.built.state, out;
+  crumple_sheets(11, in, out);
   Workspace wh = make_workspace(m, hash.built.options);
   Workspace wb = make_workspace(bvh.built.model, bvh.built.options);
   build_broad_phase(m, in, out, wh.collision);
@@ -206,19 +220,12 @@ TEST_CASE("cloth pairs: two crumpled sheets report only pairs of different cloth
 }
 
 TEST_CASE("a scene that names no broad phase gets the BVH: no hash is built, the brute-force pairs are found") {
-  auto sc = load_xml("default_broad", R"(<scene>
-      <cloth name="a" grid="12 12" size="0.5 0.5"><thickness value="0.02"/></cloth>
-      <cloth name="b" grid="12 12" size="0.5 0.5"><thickness value="0.02"/></cloth></scene>)");
+  auto sc = load_xml("default_broad", std::string("<scene>") + two_sheets_xml);
   const Model& m = sc.built.model;
   REQUIRE(m.collision.broad_phase == BroadPhase::bvh);
   CHECK(broad_mode(m.collision) == BroadMode::bvh);
-  std::mt19937 rng(13);
-  std::uniform_real_distribution<Real> height(-0.04, 0.04), small(-0.005, 0.005);
-  State in = sc.built.state, out = in;
-  for (std::size_t i = 0; i < in.x.size(); ++i) {
-    in.x[i].y() += height(rng);
-    out.x[i] = in.x[i] + Vec3(small(rng), small(rng), small(rng));
-  }
+  State in = sc.built.state, out;
+  crumple_sheets(13, in, out);
   Workspace ws = make_workspace(m, sc.built.options);
   build_broad_phase(m, in, out, ws.collision);
   CHECK(ws.collision.hash.table_size == 0);
