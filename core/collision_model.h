@@ -222,6 +222,23 @@ struct Contact {
   Real d;  // end-of-step distance along n, m (negative: crossed)
 };
 
+// One walk kind's candidate lists (systems/collision/candidate_cache.h): each cloth element's broad-phase slots,
+// in the trees' order, gathered per fixed block of elements; end[e] is where element e's slots end in its block.
+struct CandidateLists {
+  std::vector<std::vector<Index>> block;
+  std::vector<Index> end;  // (elements)
+};
+struct CandidateCache {
+  bool on = false;                // lists made for this step's broad phase and still usable
+  const Vec3* in_ref = nullptr;   // the start-of-step positions they were made for
+  std::vector<Vec3> x_ref;        // the end-of-step positions they were made for (particle_count)
+  Real margin = 0;                // each query was grown by twice this, m
+  // Cloth slots whose boxes now come from a corner more than the margin from x_ref: walks test them apart.
+  std::vector<Index> runaway;
+  std::vector<std::uint8_t> is_runaway;  // (cloth slot count)
+  CandidateLists vertex, triangle, edge;
+};
+
 struct CollisionScratch {
   std::vector<Vec3> collider_x0, collider_x1;  // collider mesh vertices at the start and end of the step
   // The animated colliders' frames the steps read, filled by the frame loop (sim/collider_track.h); one per
@@ -232,6 +249,7 @@ struct CollisionScratch {
   std::vector<Aabb> collider_node_box;  // collider_tree's node boxes (its node count)
   Aabb query_bounds;                    // union of the cloth vertices' swept boxes
   HashScratch hash;
+  CandidateCache candidates;
   // Per-particle accumulators in fixed point (fixed_scale units): integer sums are exact and associative, so
   // the averaged response is the same bytes whatever the order the threads add in.
   std::vector<std::int64_t> acc_dv, acc_dx;  // (3 * particle_count)

@@ -36,12 +36,14 @@ void build_cloth_broad_phase(const Model& m, const State& in, const State& out, 
         return b;
       },
       [](Aabb a, const Aabb& b) { grow(a, b.lo); grow(a, b.hi); return a; });
+  note_cloth_boxes(m, in, out, s);
   if (c.broad_phase == BroadPhase::bvh) refit_bvh(c.cloth_tree, s.prim_box, s.cloth_node_box);
   else build_spatial_hash(c, s);
 }
 
 void build_broad_phase(const Model& m, const State& in, const State& out, CollisionScratch& s) {
   const CollisionModel& c = m.collision;
+  drop_candidate_lists(s);
   prim_boxes(m, in, out, s, c.cloth_prim_count, Index(c.prim.size()));
   refit_bvh(c.collider_tree, s.prim_box, s.collider_node_box);
   build_cloth_broad_phase(m, in, out, s);

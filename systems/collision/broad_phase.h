@@ -6,6 +6,7 @@
 // tested). The walks are templates so that each pass's per-pair test inlines into the loop over candidates.
 #include "core/model.h"
 #include "systems/collision/bvh.h"
+#include "systems/collision/candidate_cache.h"
 #include "systems/collision/spatial_hash.h"
 #include "systems/parallel.h"
 
@@ -60,6 +61,48 @@ void for_each_candidate(const Model& m, const CollisionScratch& s, BroadMode mod
   if (walks_colliders(mode)) query_bvh(c.collider_tree, s.collider_node_box, q, visit);
 }
 
+// The query boxes of the walks' cloth elements: their swept boxes over the step.
+inline Aabb vertex_query(const State& in, const State& out, Index i) { return swept_box(in.x[i], out.x[i]); }
+inline Aabb edge_query(const CollisionModel& c, const State& in, const State& out, Index e) {
+  const Index a = c.edge_a[e], b = c.edge_b[e];
+  Aabb q = swept_box(in.x[a], out.x[a]);
+  grow(q, in.x[b]);
+  grow(q, out.x[b]);
+  return q;
+}
+inline Aabb triangle_query(const Model& m, const State& in, const State& out, Index t) {
+  const Index* p = &m.tri_index[3 * t];
+  Aabb q = swept_box(in.x[p[0]], out.x[p[0]]);
+  for (int k = 1; k < 3; ++k) { grow(q, in.x[p[k]]); grow(q, out.x[p[k]]); }
+  return q;
+}
+
+// for_each_candidate for the cloth element `element` of particles p[0, n), through its candidate list when
+// `lists` (usable_candidates) holds one and the particles are near where it was made: the listed slots whose boxes
+// overlap q, runaways apart (systems/collision/candidate_cache.h). The same slots as the walk, in another order.
+template <class Visit>
+void for_each_candidate_of(const Model& m, const State& out, const CollisionScratch& s, BroadMode mode,
+                           const CandidateLists* lists, Index element, const Index* p, int n, const Aabb& q,
+                           Visit&& visit) {
+  const CandidateCache& k = s.candidates;
+  if (!lists || (mode != BroadMode::bvh && mode != BroadMode::bvh_cloth) || !near_lists(k, out, p, n)) {
+    for_each_candidate(m, s, mode, q, visit);
+    return;
+  }
+  const Index* listed = lists->block[std::size_t(element / candidate_block)].data();
+  const Index end = lists->end[std::size_t(element)];
+  const Index slots = walks_colliders(mode) ? Index(m.collision.prim.size()) : m.collision.cloth_prim_count;
+  const Index cloth_slots = m.collision.cloth_prim_count;
+  for (Index j = element % candidate_block == 0 ? 0 : lists->end[std::size_t(element) - 1]; j < end; ++j) {
+    const Index slot = listed[j];
+    if (slot >= slots) break;  // the colliders' slots come last
+    if (slot < cloth_slots && k.is_runaway[std::size_t(slot)]) continue;
+    if (boxes_overlap(q, s.prim_box[slot])) visit(slot);
+  }
+  for (const Index slot : k.runaway)
+    if (boxes_overlap(q, s.prim_box[slot])) visit(slot);
+}
+
 // Corners of a broad-phase prim at the start and end of the step.
 struct PrimCorners {
   Index p[3];
@@ -93,13 +136,13 @@ void for_each_collider_vertex_pair(const Model& m, const State& in, const State&
                                    BroadMode mode, OnPair&& on_pair, Near&& near = Near{}) {
   const CollisionModel& c = m.collision;
   if (c.mesh_vertex_first_tri.empty() || !walks_colliders(mode)) return;
+  const CandidateLists* lists = usable_candidates(in, s, WalkKind::triangle);
   parallel_over(m.tri_count, contact_grain, [&](Index t) {
     const Index* p = &m.tri_index[3 * t];
     if (m.particle_inv_mass[p[0]] == 0 && m.particle_inv_mass[p[1]] == 0 && m.particle_inv_mass[p[2]] == 0) return;
-    Aabb q = swept_box(in.x[p[0]], out.x[p[0]]);
-    for (int k = 1; k < 3; ++k) { grow(q, in.x[p[k]]); grow(q, out.x[p[k]]); }
+    const Aabb q = triangle_query(m, in, out, t);
     if (!near(q)) return;
-    for_each_candidate(m, s, mode, q, [&](Index slot) {
+    for_each_candidate_of(m, out, s, mode, lists, t, p, 3, q, [&](Index slot) {
       const Index prim = c.prim[slot];
       if (prim < m.tri_count) return;
       const Index tri = prim - m.tri_count;
@@ -124,14 +167,14 @@ void for_each_edge_pair(const Model& m, const State& in, const State& out, const
   const CollisionModel& c = m.collision;
   const bool meshes = !c.mesh_edge_a.empty() && walks_colliders(mode);
   if (!c.cloth_contact && !meshes) return;
+  const CandidateLists* lists = usable_candidates(in, s, WalkKind::edge);
   parallel_over(Index(c.edge_a.size()), contact_grain, [&](Index e) {
     if (!meshes && !c.edge_contact[e]) return;
     const Index a = c.edge_a[e], b = c.edge_b[e];
-    Aabb q = swept_box(in.x[a], out.x[a]);
-    grow(q, in.x[b]);
-    grow(q, out.x[b]);
+    const Aabb q = edge_query(c, in, out, e);
     if (!near(q)) return;
-    for_each_candidate(m, s, mode, q, [&](Index slot) {
+    const Index ends[2] = {a, b};
+    for_each_candidate_of(m, out, s, mode, lists, e, ends, 2, q, [&](Index slot) {
       const Index prim = c.prim[slot];
       if (prim >= m.tri_count) {
         const Index tri = prim - m.tri_count;

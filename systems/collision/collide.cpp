@@ -31,7 +31,10 @@ CollideCounts collide(const Model& m, const State& in, State& out, Workspace& ws
   place_colliders(m, in.time, h, s);
   push_out_deep_vertices(m, in, out, s, h);
   const bool broad = !c.prim.empty();
-  if (broad) build_broad_phase(m, in, out, s);
+  if (broad) {
+    build_broad_phase(m, in, out, s);
+    make_candidate_lists(m, in, out, s);
+  }
   const BroadMode mode = broad_mode(c);
 
   // The proximity passes (Bridson et al. 2002 §7): every contact of a pass is averaged per vertex, applied, and

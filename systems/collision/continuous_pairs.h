@@ -77,11 +77,12 @@ void for_each_crossing(const Model& m, const State& in, const State& out, const 
                        BroadMode mode, Keep&& keep, Near&& near, OnVertex&& on_vertex,
                        OnColliderVertex&& on_collider_vertex, OnEdge&& on_edge) {
   const CollisionModel& c = m.collision;
+  const CandidateLists* lists = usable_candidates(in, s, WalkKind::vertex);
   parallel_over(m.particle_count, contact_grain, [&](Index i) {
     const Real thick = m.particle_thickness[i];
-    const Aabb q = swept_box(in.x[i], out.x[i]);
+    const Aabb q = vertex_query(in, out, i);
     if (!near(q)) return;
-    for_each_candidate(m, s, mode, q, [&](Index slot) {
+    for_each_candidate_of(m, out, s, mode, lists, i, &i, 1, q, [&](Index slot) {
       const Index prim = c.prim[slot];
       const PrimCorners t = corners(m, in, out, s, prim);
       if (t.cloth && !c.vertex_meets_cloth_triangle(i, t.p)) return;

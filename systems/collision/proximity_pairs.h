@@ -86,11 +86,12 @@ void for_each_proximity(const Model& m, const State& in, const State& out, const
                         OnColliderEdge&& on_collider_edge) {
   const CollisionModel& c = m.collision;
   if (c.prim.empty()) return;
+  const CandidateLists* lists = usable_candidates(in, s, WalkKind::vertex);
   parallel_over(m.particle_count, contact_grain, [&](Index i) {
     const Real thickness = m.particle_thickness[i], hold_reach = collider_reach(s, thickness);
-    const Aabb q = swept_box(in.x[i], out.x[i]);
+    const Aabb q = vertex_query(in, out, i);
     const Real own_motion = (out.x[i] - in.x[i]).norm();
-    for_each_candidate(m, s, mode, q, [&](Index slot) {
+    for_each_candidate_of(m, out, s, mode, lists, i, &i, 1, q, [&](Index slot) {
       const Index prim = c.prim[slot];
       const PrimCorners t = corners(m, in, out, s, prim);
       if (t.cloth && !c.vertex_meets_cloth_triangle(i, t.p)) return;
