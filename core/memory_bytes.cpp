@@ -22,7 +22,8 @@ std::size_t model_bytes(const Model& m) {
                                 m.spring_chunk_open_offset, m.spring_chunk_open_range, m.spring_chunk_close_offset,
                                 m.spring_chunk_close_range, m.spring_block_close, m.tri_index,
                                 m.particle_tri_offset, m.particle_tri_index, m.spring_colour_offset,
-                                m.spring_colour_spring, m.tether_particle, m.tether_pin, m.tether_length,
+                                m.spring_colour_spring, m.particle_colour_offset, m.particle_colour_entry,
+                                m.tether_particle, m.tether_pin, m.tether_length,
                                 m.attach_particle, m.attach_collider, m.attach_tri, m.attach_weight, m.attach_offset,
                                 m.hinge_e0, m.hinge_e1, m.hinge_o1, m.hinge_o2, m.hinge_rest_angle, m.hinge_k,
                                 m.particle_hinge_offset, m.particle_hinge_index);

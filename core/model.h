@@ -76,6 +76,10 @@ struct Model {
   // two springs of a colour share a particle, so a colour's projections run in parallel in any order
   std::vector<Index> spring_colour_offset;    // first entry of each colour in spring_colour_spring (colours + 1)
   std::vector<Index> spring_colour_spring;    // spring indices, colour by colour (limited spring count)
+  // the schedule entries (indices into spring_colour_spring) at each particle, so a sweep can find the springs a
+  // move makes worth projecting again
+  std::vector<Index> particle_colour_offset;  // (particle_count + 1, or 0)
+  std::vector<Index> particle_colour_entry;   // (2 x limited spring count)
   // long-range attachments (core/tethers.h), only for strain-limited cloths with pins: a free particle and its
   // nearest pin, which it may not leave by more than tether_length
   std::vector<Index> tether_particle;         // (tether_count)

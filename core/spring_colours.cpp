@@ -50,6 +50,20 @@ void build_spring_colours(Model& m) {
   m.spring_colour_spring.assign(m.spring_colour_offset.back(), 0);
   for (Index s = 0; s < m.spring_count; ++s)
     if (colour[s] >= 0) m.spring_colour_spring[start[colour[s]]++] = s;
+  // Each particle's entries, by a counting sort of the entries' two ends.
+  m.particle_colour_offset.assign(std::size_t(m.particle_count) + 1, 0);
+  for (Index s : m.spring_colour_spring) {
+    ++m.particle_colour_offset[std::size_t(m.spring_a[s]) + 1];
+    ++m.particle_colour_offset[std::size_t(m.spring_b[s]) + 1];
+  }
+  std::partial_sum(m.particle_colour_offset.begin(), m.particle_colour_offset.end(), m.particle_colour_offset.begin());
+  m.particle_colour_entry.assign(std::size_t(m.particle_colour_offset.back()), 0);
+  std::vector<Index> next(m.particle_colour_offset.begin(), m.particle_colour_offset.end() - 1);
+  for (Index k = 0; k < Index(m.spring_colour_spring.size()); ++k) {
+    const Index s = m.spring_colour_spring[k];
+    m.particle_colour_entry[next[m.spring_a[s]]++] = k;
+    m.particle_colour_entry[next[m.spring_b[s]]++] = k;
+  }
 }
 
 }  // namespace clothsim

@@ -12,7 +12,8 @@ bool spring_is_limited(const Model& model, Index s);
 
 // Fills model.spring_colour_offset / spring_colour_spring with the limited springs: greedy, in spring order, each
 // spring taking the lowest colour free at both its ends (a grid's Provot springs take 13 colours, at most
-// 2 x the largest particle degree - 1 in general). Within a colour springs keep their index order.
+// 2 x the largest particle degree - 1 in general). Within a colour springs keep their index order. Also fills
+// particle_colour_offset / particle_colour_entry: each particle's schedule entries, in entry order.
 void build_spring_colours(Model& model);
 
 }  // namespace clothsim

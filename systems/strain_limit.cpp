@@ -4,7 +4,10 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <atomic>
+#include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "systems/displace.h"
 #include "systems/parallel.h"
@@ -46,15 +49,38 @@ void apply_tethers(const Model& m, State& out, Real h) {
   });
 }
 
+// Which springs a sweep must project again. One found within its limit (excess <= 0) whose ends have not moved
+// since gives the same excess again and moves nothing, so skipping it changes no byte; a move of a particle marks
+// every spring at it. Late sweeps work on a few pinched regions while the rest of the cloth is settled, so a sweep
+// costs what its marked springs cost. The marks are set from several threads but only ever to 1, and read after
+// the colour that set them has ended, so which springs run does not depend on the threads.
+struct SweepMarks {
+  std::vector<std::atomic<std::uint8_t>> dirty;  // per schedule entry
+  std::vector<Index> colour_list;                // the marked entries of the colour being swept
+  explicit SweepMarks(const Model& m) : dirty(m.spring_colour_spring.size()) {
+    for (auto& d : dirty) d.store(1, std::memory_order_relaxed);
+  }
+  void mark(const Model& m, Index i) {
+    for (Index e = m.particle_colour_offset[i]; e < m.particle_colour_offset[i + 1]; ++e)
+      dirty[std::size_t(m.particle_colour_entry[e])].store(1, std::memory_order_relaxed);
+  }
+};
+
 // One Gauss-Seidel sweep: colours in order, each colour's springs in parallel (they share no particle). A spring
 // longer than L = (1 + maxStrain) rest moves its ends towards each other by omega (|d| - L), split by inverse mass
-// (Provot 1995 §5; omega = 1 is his projection). Returns the largest strain excess met, before each projection.
-Real sweep(const Model& m, State& out, Real h, Real omega) {
+// (Provot 1995 §5; omega = 1 is his projection). Returns the largest strain excess met, before each projection,
+// over the springs it projected (the skipped ones are within their limit).
+Real sweep(const Model& m, State& out, Real h, Real omega, SweepMarks& marks) {
   Real met = no_excess;
   const Index colours = Index(m.spring_colour_offset.size()) - 1;
+  std::vector<Index>& list = marks.colour_list;
   for (Index c = 0; c < colours; ++c) {
-    met = std::max(met, max_over(m.spring_colour_offset[c], m.spring_colour_offset[c + 1], [&](Index k) {
-      const Index s = m.spring_colour_spring[k], a = m.spring_a[s], b = m.spring_b[s];
+    list.clear();
+    for (Index k = m.spring_colour_offset[c]; k < m.spring_colour_offset[c + 1]; ++k)
+      if (marks.dirty[std::size_t(k)].load(std::memory_order_relaxed)) list.push_back(k);
+    met = std::max(met, max_over(0, Index(list.size()), [&](Index j) {
+      const Index k = list[std::size_t(j)], s = m.spring_colour_spring[k], a = m.spring_a[s], b = m.spring_b[s];
+      marks.dirty[std::size_t(k)].store(0, std::memory_order_relaxed);
       const Vec3 d = out.x[b] - out.x[a];
       const Real len = d.norm(), excess = strain_excess(m, s, len);
       if (excess > 0) {
@@ -63,6 +89,8 @@ Real sweep(const Model& m, State& out, Real h, Real omega) {
         const Vec3 dx = (omega * (len - target) / ((wa + wb) * len)) * d;
         displace(out, a, wa * dx, h);
         displace(out, b, -wb * dx, h);
+        marks.mark(m, a);
+        marks.mark(m, b);
       }
       return excess;
     }));
@@ -85,9 +113,10 @@ bool strain_limit_met(const Model& m, std::span<const Vec3> x) {
 
 namespace {
 
-// The sweeps of apply_strain_limit, each followed by after_sweep(out).
+// The sweeps of apply_strain_limit, each followed by after_sweep(out); after_moves says whether after_sweep may
+// move particles (the springs at those it moved are then marked, by comparing positions before and after it).
 template <class AfterSweep>
-int limit_strain(const Model& m, State& out, Real h, AfterSweep&& after_sweep) {
+int limit_strain(const Model& m, State& out, Real h, bool after_moves, AfterSweep&& after_sweep) {
   // Stop a little inside the guarantee so the last sweep's round-off cannot cross it (strain_limit_met).
   const Real stop = 0.5 * strain_limit_tolerance;
   if (strain_limit_met(m, out.x)) return 0;
@@ -95,10 +124,18 @@ int limit_strain(const Model& m, State& out, Real h, AfterSweep&& after_sweep) {
   int it = 0;
   // The tethers alone may leave nothing to do (a chain stretched straight from its pin).
   bool done = !m.tether_particle.empty() && strain_limit_met(m, out.x);
+  SweepMarks marks(m);
+  std::vector<Vec3> before(after_moves ? std::size_t(m.particle_count) : 0);
   while (!done && it < strain_limit_max_iterations) {
     // The first sweep projects exactly: a spring stretched alone ends at its limit, not past it.
-    const Real met = sweep(m, out, h, it == 0 ? 1 : strain_limit_relaxation);
-    after_sweep(out);
+    const Real met = sweep(m, out, h, it == 0 ? 1 : strain_limit_relaxation, marks);
+    if (after_moves) {
+      parallel_over(m.particle_count, particle_grain, [&](Index i) { before[std::size_t(i)] = out.x[i]; });
+      after_sweep(out);
+      parallel_over(m.particle_count, particle_grain, [&](Index i) {
+        if (out.x[i] != before[std::size_t(i)]) marks.mark(m, i);
+      });
+    }
     ++it;
     // The read-only check of the end state decides; it runs after the first sweep (one sweep is often enough)
     // and after any sweep that met no spring past the stop, so most steps check once or twice, not every sweep.
@@ -110,7 +147,7 @@ int limit_strain(const Model& m, State& out, Real h, AfterSweep&& after_sweep) {
 }  // namespace
 
 int apply_strain_limit(const Model& m, State& out, Real h) {
-  return limit_strain(m, out, h, [](State&) {});
+  return limit_strain(m, out, h, false, [](State&) {});
 }
 
 void set_contact_planes(const Model& m, const State& out, std::span<Real> offset) {
@@ -128,7 +165,7 @@ int apply_strain_limit_on_contacts(const Model& m, State& out, Real h, std::span
     if (hold) hold(s);
   };
   onto_planes(out);  // a stitch pass since set_contact_planes may have moved a contact behind its plane
-  return limit_strain(m, out, h, onto_planes);
+  return limit_strain(m, out, h, true, onto_planes);
 }
 
 }  // namespace clothsim
