@@ -30,6 +30,7 @@ struct FrameStats {
 struct RunStats {
   std::string scene;
   int threads = 0;
+  std::string blas_kernel;  // OpenBLAS's kernels, when the Cholesky preconditioner runs (core/blas_kernel.h)
   long long steps = 0;
   int frames_written = 0;
   double wall_seconds = 0;

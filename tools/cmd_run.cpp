@@ -10,6 +10,7 @@
 #include <set>
 #include <string>
 
+#include "core/blas_kernel.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
 #include "io/mtl_writer.h"
@@ -130,6 +131,16 @@ int cmd_run(int argc, char** argv) {
   io::RunStats stats;
   stats.scene = args.positional[0];
   stats.threads = threads;
+  if (options.integrator == Integrator::implicit && options.solver.preconditioner == Preconditioner::cholesky) {
+    stats.blas_kernel = blas_kernel_name();
+    const std::string coretype = better_openblas_coretype(stats.blas_kernel, cpu_vector_units());
+    if (!coretype.empty())
+      std::fprintf(stderr,
+                   "clothsim: warning: OpenBLAS runs its %s kernels on this CPU, older than its vector units; "
+                   "OPENBLAS_CORETYPE=%s makes the Cholesky factorisation faster (docs/performance.md, "
+                   "\"The BLAS kernels\")\n",
+                   stats.blas_kernel.c_str(), coretype.c_str());
+  }
   stats.load_seconds = loaded.load_seconds;
   stats.topology_seconds = loaded.topology_seconds;
   stats.load_cpu_seconds = loaded.load_cpu_seconds;
