@@ -154,6 +154,14 @@ void for_each_collider_vertex_pair(const Model& m, const State& in, const State&
   });
 }
 
+// Whether cloth edge e is tested against cloth edge f of cloth prim `prim`: each pair once, from the lower edge id
+// and through f's first triangle; neither adjacent edges nor edges of cloths that do not collide.
+inline bool cloth_edge_pair(const CollisionModel& c, Index e, Index f, Index prim) {
+  if (f <= e || c.edge_first_tri[f] != prim) return false;
+  const Index a = c.edge_a[e], b = c.edge_b[e], fa = c.edge_a[f], fb = c.edge_b[f];
+  return !c.edges_adjacent(a, b, fa, fb) && c.cloths_collide(c.particle_cloth[a], c.particle_cloth[fa]);
+}
+
 // Every cloth edge e against the edges of the prims its swept box q meets, the one edge-edge walk of the proximity
 // and continuous passes: self-colliding cloths' edges against each other (each pair once, from the lower edge id;
 // neither adjacent edges nor edges of cloths that do not collide), and every cloth edge against collider-mesh edges
@@ -192,10 +200,8 @@ void for_each_edge_pair(const Model& m, const State& in, const State& out, const
       if (!c.edge_contact[e]) return;
       for (int k = 0; k < 3; ++k) {
         const Index f = c.tri_edge[3 * prim + k];
-        if (f <= e || c.edge_first_tri[f] != prim) continue;
+        if (!cloth_edge_pair(c, e, f, prim)) continue;
         const Index fa = c.edge_a[f], fb = c.edge_b[f];
-        if (c.edges_adjacent(a, b, fa, fb)) continue;
-        if (!c.cloths_collide(c.particle_cloth[a], c.particle_cloth[fa])) continue;
         const Vec3* const x0[4] = {&in.x[a], &in.x[b], &in.x[fa], &in.x[fb]};
         const Vec3* const x1[4] = {&out.x[a], &out.x[b], &out.x[fa], &out.x[fb]};
         const Index p[4] = {a, b, fa, fb};

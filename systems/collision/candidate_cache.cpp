@@ -6,18 +6,22 @@ namespace clothsim {
 namespace {
 
 // One kind's lists: each element's query box from box(e), grown by `grow`, walked through the cloth tree (when
-// `cloth`) and the colliders' tree. The blocks are fixed, so the lists are the same at any thread count.
-template <class Box>
+// `cloth`) and the colliders' tree, keeping the slots that may_pair(e, slot) allows (a slot it refuses could give
+// the walks no pair, whatever the positions). The blocks are fixed, so the lists are the same at any thread count.
+template <class Box, class MayPair>
 void make_lists(const Model& m, const CollisionScratch& s, Index elements, bool cloth, Real grow, Box&& box,
-                CandidateLists& lists) {
+                MayPair&& may_pair, CandidateLists& lists) {
   const CollisionModel& c = m.collision;
   lists.block.resize(std::size_t((elements + candidate_block - 1) / candidate_block));
   lists.end.resize(std::size_t(elements));
   parallel_over(Index(lists.block.size()), 1, [&](Index b) {
     std::vector<Index>& kept = lists.block[std::size_t(b)];
     kept.clear();
-    const auto keep = [&](Index slot) { kept.push_back(slot); };
-    for (Index e = b * candidate_block; e < std::min(elements, (b + 1) * candidate_block); ++e) {
+    Index e = 0;
+    const auto keep = [&](Index slot) {
+      if (may_pair(e, slot)) kept.push_back(slot);
+    };
+    for (e = b * candidate_block; e < std::min(elements, (b + 1) * candidate_block); ++e) {
       Aabb q = box(e);
       q.lo.array() -= grow;
       q.hi.array() += grow;
@@ -37,9 +41,23 @@ void make_candidate_lists(const Model& m, const State& in, const State& out, Col
   if (c.broad_phase != BroadPhase::bvh || c.prim.empty()) return;
   k.margin = candidate_margin_thicknesses * c.max_thickness;
   const Real grow = 2 * k.margin;
-  make_lists(m, s, m.particle_count, true, grow, [&](Index i) { return vertex_query(in, out, i); }, k.vertex);
-  make_lists(m, s, Index(c.edge_a.size()), true, grow, [&](Index e) { return edge_query(c, in, out, e); }, k.edge);
-  make_lists(m, s, m.tri_count, false, grow, [&](Index t) { return triangle_query(m, in, out, t); }, k.triangle);
+  const auto any_slot = [](Index, Index) { return true; };
+  // The edge walk (for_each_edge_pair) takes from a cloth triangle only the edges cloth_edge_pair allows, so an
+  // edge keeps only the cloth slots that hold one.
+  const auto edge_may_pair = [&](Index e, Index slot) {
+    const Index prim = c.prim[slot];
+    if (prim >= m.tri_count) return true;
+    if (!c.edge_contact[e]) return false;
+    for (int j = 0; j < 3; ++j)
+      if (cloth_edge_pair(c, e, c.tri_edge[3 * prim + j], prim)) return true;
+    return false;
+  };
+  make_lists(m, s, m.particle_count, true, grow, [&](Index i) { return vertex_query(in, out, i); }, any_slot,
+             k.vertex);
+  make_lists(m, s, Index(c.edge_a.size()), true, grow, [&](Index e) { return edge_query(c, in, out, e); },
+             edge_may_pair, k.edge);
+  make_lists(m, s, m.tri_count, false, grow, [&](Index t) { return triangle_query(m, in, out, t); }, any_slot,
+             k.triangle);
   k.x_ref = out.x;
   k.in_ref = in.x.data();
   k.runaway.clear();
