@@ -113,10 +113,9 @@ bool strain_limit_met(const Model& m, std::span<const Vec3> x) {
 
 namespace {
 
-// The sweeps of apply_strain_limit, each followed by after_sweep(out); after_moves says whether after_sweep may
-// move particles (the springs at those it moved are then marked, by comparing positions before and after it).
-template <class AfterSweep>
-int limit_strain(const Model& m, State& out, Real h, bool after_moves, AfterSweep&& after_sweep) {
+// The sweeps of apply_strain_limit, each followed by after_sweep(out) when one is given; the springs at the
+// particles it moved are then marked, found by comparing positions before and after it.
+int limit_strain(const Model& m, State& out, Real h, const std::function<void(State&)>& after_sweep = {}) {
   // Stop a little inside the guarantee so the last sweep's round-off cannot cross it (strain_limit_met).
   const Real stop = 0.5 * strain_limit_tolerance;
   if (strain_limit_met(m, out.x)) return 0;
@@ -125,11 +124,11 @@ int limit_strain(const Model& m, State& out, Real h, bool after_moves, AfterSwee
   // The tethers alone may leave nothing to do (a chain stretched straight from its pin).
   bool done = !m.tether_particle.empty() && strain_limit_met(m, out.x);
   SweepMarks marks(m);
-  std::vector<Vec3> before(after_moves ? std::size_t(m.particle_count) : 0);
+  std::vector<Vec3> before(after_sweep ? std::size_t(m.particle_count) : 0);
   while (!done && it < strain_limit_max_iterations) {
     // The first sweep projects exactly: a spring stretched alone ends at its limit, not past it.
     const Real met = sweep(m, out, h, it == 0 ? 1 : strain_limit_relaxation, marks);
-    if (after_moves) {
+    if (after_sweep) {
       parallel_over(m.particle_count, particle_grain, [&](Index i) { before[std::size_t(i)] = out.x[i]; });
       after_sweep(out);
       parallel_over(m.particle_count, particle_grain, [&](Index i) {
@@ -147,7 +146,7 @@ int limit_strain(const Model& m, State& out, Real h, bool after_moves, AfterSwee
 }  // namespace
 
 int apply_strain_limit(const Model& m, State& out, Real h) {
-  return limit_strain(m, out, h, false, [](State&) {});
+  return limit_strain(m, out, h);
 }
 
 void set_contact_planes(const Model& m, const State& out, std::span<Real> offset) {
@@ -165,7 +164,7 @@ int apply_strain_limit_on_contacts(const Model& m, State& out, Real h, std::span
     if (hold) hold(s);
   };
   onto_planes(out);  // a stitch pass since set_contact_planes may have moved a contact behind its plane
-  return limit_strain(m, out, h, true, onto_planes);
+  return limit_strain(m, out, h, onto_planes);
 }
 
 }  // namespace clothsim
