@@ -16,8 +16,10 @@ namespace clothsim {
 // collider vertices), edges.
 enum class WalkKind { vertex, triangle, edge };
 
-// The margin, in cloth thicknesses: a pass's corrections are mostly within one.
-inline constexpr Real candidate_margin_thicknesses = 1;
+// The margin, in cloth thicknesses. A smaller one makes smaller boxes and shorter lists, and more cloth triangles
+// run away within a step; a quarter took the collide phase of the Rumba's frames 0-12 from 9.4 s to 8.3 s against
+// one thickness, with 0.1 and 0.05 no better (docs/performance.md, "Candidate lists reused within a step").
+inline constexpr Real candidate_margin_thicknesses = 0.25;
 // Elements per block of a kind's lists.
 inline constexpr Index candidate_block = 256;
 // Runaway slots beyond which the lists are not worth filtering: the walks go back to the trees.
