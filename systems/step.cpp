@@ -104,7 +104,7 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
     CollisionScratch& s = ws.collision;
     set_contact_planes(model, out, s.contact_offset);
     gather_cloth_holds(model, in, out, s);
-    const auto hold = [&](State& held) { apply_cloth_holds(model, held, s, h); };
+    const auto hold = [&](State& held, const MovedParticle& moved) { apply_cloth_holds(model, held, s, h, moved); };
     limit_with_stitches(model, ws, out, h, t, result.counts.strain_sweeps, stitch_strain_rounds_after_collide,
                         [&] { return apply_strain_limit_on_contacts(model, out, h, s.contact_offset, hold); });
   }

@@ -113,9 +113,9 @@ bool strain_limit_met(const Model& m, std::span<const Vec3> x) {
 
 namespace {
 
-// The sweeps of apply_strain_limit, each followed by after_sweep(out) when one is given; the springs at the
-// particles it moved are then marked, found by comparing positions before and after it.
-int limit_strain(const Model& m, State& out, Real h, const std::function<void(State&)>& after_sweep = {}) {
+// The sweeps of apply_strain_limit, each followed by after_sweep(out, moved) when one is given, which reports each
+// particle it moves to `moved`: the springs at those are marked for the next sweep.
+int limit_strain(const Model& m, State& out, Real h, const ContactHoldPass& after_sweep = {}) {
   // Stop a little inside the guarantee so the last sweep's round-off cannot cross it (strain_limit_met).
   const Real stop = 0.5 * strain_limit_tolerance;
   if (strain_limit_met(m, out.x)) return 0;
@@ -124,17 +124,11 @@ int limit_strain(const Model& m, State& out, Real h, const std::function<void(St
   // The tethers alone may leave nothing to do (a chain stretched straight from its pin).
   bool done = !m.tether_particle.empty() && strain_limit_met(m, out.x);
   SweepMarks marks(m);
-  std::vector<Vec3> before(after_sweep ? std::size_t(m.particle_count) : 0);
+  const MovedParticle moved = [&](Index i) { marks.mark(m, i); };
   while (!done && it < strain_limit_max_iterations) {
     // The first sweep projects exactly: a spring stretched alone ends at its limit, not past it.
     const Real met = sweep(m, out, h, it == 0 ? 1 : strain_limit_relaxation, marks);
-    if (after_sweep) {
-      parallel_over(m.particle_count, particle_grain, [&](Index i) { before[std::size_t(i)] = out.x[i]; });
-      after_sweep(out);
-      parallel_over(m.particle_count, particle_grain, [&](Index i) {
-        if (out.x[i] != before[std::size_t(i)]) marks.mark(m, i);
-      });
-    }
+    if (after_sweep) after_sweep(out, moved);
     ++it;
     // The read-only check of the end state decides; it runs after the first sweep (one sweep is often enough)
     // and after any sweep that met no spring past the stop, so most steps check once or twice, not every sweep.
@@ -154,16 +148,19 @@ void set_contact_planes(const Model& m, const State& out, std::span<Real> offset
 }
 
 int apply_strain_limit_on_contacts(const Model& m, State& out, Real h, std::span<const Real> offset,
-                                   const std::function<void(State&)>& hold) {
-  const auto onto_planes = [&](State& s) {
+                                   const ContactHoldPass& hold) {
+  const auto onto_planes = [&](State& s, const MovedParticle& moved) {
     parallel_over(m.particle_count, particle_grain, [&](Index i) {
       const Vec3& n = s.contact[i].normal;
       const Real behind = offset[i] - n.dot(s.x[i]);
-      if (behind > 0) displace(s, i, behind * n, h);
+      if (!(behind > 0)) return;
+      displace(s, i, behind * n, h);
+      moved(i);  // marks, set from any thread, only ever to 1
     });
-    if (hold) hold(s);
+    if (hold) hold(s, moved);
   };
-  onto_planes(out);  // a stitch pass since set_contact_planes may have moved a contact behind its plane
+  // A stitch pass since set_contact_planes may have moved a contact behind its plane; every spring starts marked.
+  onto_planes(out, [](Index) {});
   return limit_strain(m, out, h, onto_planes);
 }
 

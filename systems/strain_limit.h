@@ -42,9 +42,13 @@ int apply_strain_limit(const Model& model, State& out, Real h);
 // sweeps taken (0 when the limit was met). Where the contacts themselves hold a spring past its limit (cloth
 // pinched between two colliders), the sweeps stop at strain_limit_max_iterations unmet. `hold`, when given, runs
 // after the planes every time they do (the cloth-cloth holds, systems/collision/cloth_holds.h).
+// `hold`, when given, reports each particle it moves to its second argument (which may be called from several
+// threads), so that the sweeps project the springs at it again.
+using MovedParticle = std::function<void(Index)>;
+using ContactHoldPass = std::function<void(State&, const MovedParticle&)>;
 void set_contact_planes(const Model& model, const State& out, std::span<Real> contact_offset);
 int apply_strain_limit_on_contacts(const Model& model, State& out, Real h, std::span<const Real> contact_offset,
-                                   const std::function<void(State&)>& hold = {});
+                                   const ContactHoldPass& hold = {});
 
 // Whether every limited spring is within its limit + strain_limit_tolerance / 2: what apply_strain_limit ends
 // with unless it stopped at strain_limit_max_iterations (a limit the cloth cannot meet in one step, or at all).

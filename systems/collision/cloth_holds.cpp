@@ -49,7 +49,8 @@ void gather_cloth_holds(const Model& m, const State& in, const State& out, Colli
   });
 }
 
-Index apply_cloth_holds(const Model& m, State& out, const CollisionScratch& s, Real h) {
+Index apply_cloth_holds(const Model& m, State& out, const CollisionScratch& s, Real h,
+                        const std::function<void(Index)>& on_move) {
   Index moved = 0;
   for (const Contact& k : s.cloth_holds) {
     Index p[4];
@@ -63,7 +64,10 @@ Index apply_cloth_holds(const Model& m, State& out, const CollisionScratch& s, R
     const Real short_by = k.d - gap;
     if (!(short_by > hold_slack) || !(weight > 0)) continue;
     const Real lambda = short_by / weight;
-    for (int j = 0; j < 4; ++j) displace(out, p[j], (lambda * c[j] * m.particle_inv_mass[p[j]]) * k.n, h);
+    for (int j = 0; j < 4; ++j) {
+      displace(out, p[j], (lambda * c[j] * m.particle_inv_mass[p[j]]) * k.n, h);
+      if (on_move) on_move(p[j]);
+    }
     ++moved;
   }
   return moved;

@@ -5,6 +5,8 @@
 // layers next to them (the collide stage's continuous pass cannot see moves made after it). So every cloth-cloth
 // pair the stage left within the thickness is held at least as far apart as the stage left it, projected after
 // each strain-limit sweep, as collider contacts are held on their planes.
+#include <functional>
+
 #include "core/model.h"
 
 namespace clothsim {
@@ -18,7 +20,8 @@ void gather_cloth_holds(const Model& model, const State& in, const State& out, C
 // for a vertex and a triangle, (1 - s, s, -(1 - t), -t) for two edges) goes back to that distance d, its
 // particles moved along n by lambda c_k / m_k with lambda = (d - g) / sum c_k^2 / m_k (pins and attached
 // vertices do not move), velocities by the same displacement / h. Serial, in the holds' order: the same bytes at
-// any thread count. Returns the pairs moved.
-Index apply_cloth_holds(const Model& model, State& out, const CollisionScratch& s, Real h);
+// any thread count. Returns the pairs moved; `on_move`, when given, is called with each particle of a moved pair.
+Index apply_cloth_holds(const Model& model, State& out, const CollisionScratch& s, Real h,
+                        const std::function<void(Index)>& on_move = {});
 
 }  // namespace clothsim

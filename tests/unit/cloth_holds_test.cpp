@@ -119,7 +119,7 @@ TEST_CASE("cloth holds inside the strain limit's sweeps: the limit and the hold 
     State out = start;
     out.x[4] = Vec3(0.012, -0.08, 0.02);
     out.x[5] = Vec3(0.012, -0.08, -0.02);
-    const auto held = [&](State& s) { apply_cloth_holds(m, s, ws.collision, 0.01); };
+    const auto held = [&](State& s, const MovedParticle& moved) { apply_cloth_holds(m, s, ws.collision, 0.01, moved); };
     if (hold) apply_strain_limit_on_contacts(m, out, 0.01, planes, held);
     else apply_strain_limit_on_contacts(m, out, 0.01, planes);
     CHECK(strain_limit_met(m, out.x));

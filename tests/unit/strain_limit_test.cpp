@@ -455,10 +455,13 @@ TEST_CASE("sweeps that skip settled springs give the bytes and sweep counts of s
     if (i % 32 < 10) contacted.contact[i].normal = Vec3(0, 1, 0);
   std::vector<Real> offset(std::size_t(m.particle_count));
   set_contact_planes(m, contacted, offset);
-  const auto hold = [&](State& st) {
+  const auto hold = [&](State& st, const MovedParticle& moved) {
     for (Index i = 32; i < m.particle_count; ++i) {
       const Real below = st.x[i - 32].y() - 0.01 - st.x[i].y();
-      if (i % 32 > 21 && below > 0) displace(st, i, Vec3(0, below, 0), h);
+      if (i % 32 > 21 && below > 0) {
+        displace(st, i, Vec3(0, below, 0), h);
+        moved(i);
+      }
     }
   };
   const auto planes_and_hold = [&](State& st) {
@@ -467,7 +470,7 @@ TEST_CASE("sweeps that skip settled springs give the bytes and sweep counts of s
       const Real behind = offset[i] - n.dot(st.x[i]);
       if (behind > 0) displace(st, i, behind * n, h);
     }
-    hold(st);
+    hold(st, [](Index) {});
   };
   State on_planes = contacted, every_on_planes = contacted;
   planes_and_hold(every_on_planes);  // apply_strain_limit_on_contacts starts with the planes and the hold
