@@ -162,6 +162,17 @@ inline bool cloth_edge_pair(const CollisionModel& c, Index e, Index f, Index pri
   return !c.edges_adjacent(a, b, fa, fb) && c.cloths_collide(c.particle_cloth[a], c.particle_cloth[fa]);
 }
 
+// visit(f) for each edge f of cloth prim `prim` that cloth edge e is tested against (cloth_edge_pair); none when
+// e's cloth collides with no cloth. The edge walk and its candidate lists (candidate_cache.cpp) both use it.
+template <class Visit>
+void for_each_paired_edge(const CollisionModel& c, Index e, Index prim, Visit&& visit) {
+  if (!c.edge_contact[e]) return;
+  for (int k = 0; k < 3; ++k) {
+    const Index f = c.tri_edge[3 * prim + k];
+    if (cloth_edge_pair(c, e, f, prim)) visit(f);
+  }
+}
+
 // Every cloth edge e against the edges of the prims its swept box q meets, the one edge-edge walk of the proximity
 // and continuous passes: self-colliding cloths' edges against each other (each pair once, from the lower edge id;
 // neither adjacent edges nor edges of cloths that do not collide), and every cloth edge against collider-mesh edges
@@ -197,16 +208,13 @@ void for_each_edge_pair(const Model& m, const State& in, const State& out, const
         }
         return;
       }
-      if (!c.edge_contact[e]) return;
-      for (int k = 0; k < 3; ++k) {
-        const Index f = c.tri_edge[3 * prim + k];
-        if (!cloth_edge_pair(c, e, f, prim)) continue;
+      for_each_paired_edge(c, e, prim, [&](Index f) {
         const Index fa = c.edge_a[f], fb = c.edge_b[f];
         const Vec3* const x0[4] = {&in.x[a], &in.x[b], &in.x[fa], &in.x[fb]};
         const Vec3* const x1[4] = {&out.x[a], &out.x[b], &out.x[fa], &out.x[fb]};
         const Index p[4] = {a, b, fa, fb};
         on_pair(e, q, p, x0, x1, false, f);
-      }
+      });
     });
   });
 }

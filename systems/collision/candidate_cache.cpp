@@ -42,15 +42,14 @@ void make_candidate_lists(const Model& m, const State& in, const State& out, Col
   k.margin = candidate_margin_thicknesses * c.max_thickness;
   const Real grow = 2 * k.margin;
   const auto any_slot = [](Index, Index) { return true; };
-  // The edge walk (for_each_edge_pair) takes from a cloth triangle only the edges cloth_edge_pair allows, so an
-  // edge keeps only the cloth slots that hold one.
+  // The edge walk (for_each_edge_pair) takes from a cloth triangle only its paired edges, so an edge keeps only
+  // the cloth slots that hold one.
   const auto edge_may_pair = [&](Index e, Index slot) {
     const Index prim = c.prim[slot];
     if (prim >= m.tri_count) return true;
-    if (!c.edge_contact[e]) return false;
-    for (int j = 0; j < 3; ++j)
-      if (cloth_edge_pair(c, e, c.tri_edge[3 * prim + j], prim)) return true;
-    return false;
+    bool any = false;
+    for_each_paired_edge(c, e, prim, [&](Index) { any = true; });
+    return any;
   };
   make_lists(m, s, m.particle_count, true, grow, [&](Index i) { return vertex_query(in, out, i); }, any_slot,
              k.vertex);
