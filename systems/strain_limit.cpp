@@ -21,9 +21,15 @@ constexpr Index colour_grain = 1024;
 constexpr Real no_excess = -std::numeric_limits<Real>::infinity();
 
 // Largest of body(k) over the schedule entries [begin, end), in parallel. max is exact and order-free, so the
-// result does not depend on how the range is split.
+// result does not depend on how the range is split. A range of one grain runs here, without a task: late sweeps
+// project a few marked springs a colour, where the task machinery cost more than the projections.
 template <class Body>
 Real max_over(Index begin, Index end, Body&& body) {
+  if (end - begin <= colour_grain) {
+    Real worst = no_excess;
+    for (Index k = begin; k < end; ++k) worst = std::max(worst, body(k));
+    return worst;
+  }
   return tbb::parallel_reduce(
       tbb::blocked_range<Index>(begin, end, colour_grain), no_excess,
       [&](const tbb::blocked_range<Index>& r, Real worst) {
