@@ -33,6 +33,10 @@ Real strain_limit_excess(const Model& model, std::span<const Vec3> x);
 // the sweeps taken (0 when the tethers alone were enough).
 int apply_strain_limit(const Model& model, State& out, Real h);
 
+// A particle a pass after a sweep moved (safe to call from several threads), and such a pass.
+using MovedParticle = std::function<void(Index)>;
+using ContactHoldPass = std::function<void(State&, const MovedParticle&)>;
+
 // The strain limit again after the collide stage, which pushes single vertices out of a collider and stretches
 // their springs past maxStrain. set_contact_planes records, for every particle the collide stage left on a
 // collider (out.contact's normal n nonzero), its plane offset n . x (contact_offset, particle_count).
@@ -41,11 +45,8 @@ int apply_strain_limit(const Model& model, State& out, Real h);
 // into it, and its neighbours are pulled to it rather than it to them. Velocities move with positions. Returns the
 // sweeps taken (0 when the limit was met). Where the contacts themselves hold a spring past its limit (cloth
 // pinched between two colliders), the sweeps stop at strain_limit_max_iterations unmet. `hold`, when given, runs
-// after the planes every time they do (the cloth-cloth holds, systems/collision/cloth_holds.h).
-// `hold`, when given, reports each particle it moves to its second argument (which may be called from several
-// threads), so that the sweeps project the springs at it again.
-using MovedParticle = std::function<void(Index)>;
-using ContactHoldPass = std::function<void(State&, const MovedParticle&)>;
+// after the planes every time they do (the cloth-cloth holds, systems/collision/cloth_holds.h) and reports each
+// particle it moves to its second argument, so that the next sweep projects the springs at it again.
 void set_contact_planes(const Model& model, const State& out, std::span<Real> contact_offset);
 int apply_strain_limit_on_contacts(const Model& model, State& out, Real h, std::span<const Real> contact_offset,
                                    const ContactHoldPass& hold = {});
