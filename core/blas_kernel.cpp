@@ -15,6 +15,21 @@ std::string blas_kernel_name() {
   return name ? std::string(name) : std::string();
 }
 
+bool blas_calls_may_overlap() {
+  using GetParallel = int (*)();
+  static const bool overlap = [] {
+    const auto get_parallel = reinterpret_cast<GetParallel>(dlsym(RTLD_DEFAULT, "openblas_get_parallel"));
+    return !get_parallel || get_parallel() != 0;  // 0: OpenBLAS's sequential build
+  }();
+  return overlap;
+}
+
+void blas_on_calling_thread() {
+  using SetThreads = void (*)(int);
+  static const auto set_threads = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  if (set_threads) set_threads(1);
+}
+
 CpuVectorUnits cpu_vector_units() {
   CpuVectorUnits u;
 #if defined(__x86_64__) || defined(__i386__)

@@ -12,6 +12,16 @@ namespace clothsim {
 // is not OpenBLAS.
 std::string blas_kernel_name();
 
+// Whether BLAS calls may run at once on different threads. False for an OpenBLAS built single-threaded (Debian's
+// libopenblas0-serial): it shares its buffers between calls without locks, and two factorisations at once
+// corrupt each other's results. True for a threaded OpenBLAS and for other BLAS libraries.
+bool blas_calls_may_overlap();
+
+// Asks a threaded OpenBLAS to run each call on the thread that makes it (openblas_set_num_threads(1)): clothsim's
+// threads already share the work, and a call split over OpenBLAS's own threads would both compete with them and
+// round differently from the same call made serially. Nothing for other BLAS libraries.
+void blas_on_calling_thread();
+
 struct CpuVectorUnits {
   bool avx2 = false;
   bool avx512 = false;  // AVX-512 F

@@ -9,25 +9,26 @@
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
 
+#include "core/blas_kernel.h"
 #include "core/hinges.h"
 #include "core/model.h"
 
 namespace clothsim {
 
-struct CholeskyFactor {
-  Index n = 0;                  // particles
-  std::vector<int> new_index;   // particle -> its place in the ordering (particle_count)
-  std::vector<int> spring_pos;  // the spring's block among the off-diagonal blocks of its column (spring_count)
-  std::vector<int> up_count;    // off-diagonal blocks above the diagonal in each block column (particle_count)
-  double flops = 0;             // floating-point operations of one numeric factorisation (the analysis's count)
+// One connected piece of the particle graph (core/cholesky_factor.h): its own CHOLMOD matrix, factor and solve
+// vectors, and its own cholmod_common, so pieces factor and solve on different threads.
+struct CholeskyPiece {
+  std::vector<Index> particles;  // the piece's particles in its ordering: particles[k] is placed k-th
+  std::vector<int> up_count;     // off-diagonal blocks above the diagonal in each block column
+  double flops = 0;              // floating-point operations of one numeric factorisation (the analysis's count)
   cholmod_common common{};
   cholmod_sparse* a = nullptr;  // upper triangle of the permuted matrix (3n x 3n), CHOLMOD's stype 1
   cholmod_factor* factor = nullptr;
   // Right-hand side, solution and cholmod_solve2's workspace, allocated once: a solve allocates nothing.
   cholmod_dense *rhs = nullptr, *sol = nullptr, *work_y = nullptr, *work_e = nullptr;
 
-  CholeskyFactor() { cholmod_start(&common); }
-  ~CholeskyFactor() {
+  CholeskyPiece() { cholmod_start(&common); }
+  ~CholeskyPiece() {
     cholmod_free_dense(&rhs, &common);
     cholmod_free_dense(&sol, &common);
     cholmod_free_dense(&work_y, &common);
@@ -36,8 +37,15 @@ struct CholeskyFactor {
     cholmod_free_sparse(&a, &common);
     cholmod_finish(&common);
   }
-  CholeskyFactor(const CholeskyFactor&) = delete;
-  CholeskyFactor& operator=(const CholeskyFactor&) = delete;
+  CholeskyPiece(const CholeskyPiece&) = delete;
+  CholeskyPiece& operator=(const CholeskyPiece&) = delete;
+};
+
+struct CholeskyFactor {
+  std::vector<int> piece_of;    // particle -> its piece
+  std::vector<int> new_index;   // particle -> its place in its piece's ordering
+  std::vector<int> spring_pos;  // the spring's block among the off-diagonal blocks of its column (spring_count)
+  std::vector<std::unique_ptr<CholeskyPiece>> pieces;  // the most flops first
 };
 
 void CholeskyFactorDelete::operator()(CholeskyFactor* f) const { delete f; }
@@ -123,8 +131,7 @@ std::vector<int> minimum_degree(const ParticleGraph& graph) {
 
 // The orderings to analyse for the one asked: nested dissection then minimum degree for the cheaper of the two;
 // nested dissection falls back to minimum degree where CHOLMOD has no METIS.
-std::vector<std::vector<int>> candidate_orderings(const Model& m, CholeskyOrdering ordering) {
-  ParticleGraph graph = particle_graph(m);
+std::vector<std::vector<int>> candidate_orderings(ParticleGraph& graph, CholeskyOrdering ordering) {
   std::vector<std::vector<int>> found;
   if (ordering != CholeskyOrdering::minimum_degree) {
     std::vector<int> nd = nested_dissection(graph);
@@ -145,51 +152,40 @@ void serialise_openmp() {
   if (set_levels) set_levels(0);
 }
 
-// The pattern in the given ordering (particle -> its place) and its symbolic factorisation.
-CholeskyFactorPtr analyse(const Model& m, std::vector<int> new_index) {
-  CholeskyFactorPtr f(new CholeskyFactor);
-  const Index n = m.particle_count;
-  f->n = n;
-  f->new_index = std::move(new_index);
-
+// A piece's pattern in the given ordering of its graph (vertex -> its place) and its symbolic factorisation.
+std::unique_ptr<CholeskyPiece> analyse(const ParticleGraph& graph, const std::vector<int>& place) {
+  auto piece = std::make_unique<CholeskyPiece>();
+  const auto n = std::size_t(graph.rows());
   // Each block column J's neighbours I < J, sorted: the order of their rows in every scalar column of J.
-  std::vector<std::vector<int>> above(static_cast<std::size_t>(n));
-  for_each_coupled_pair(m, [&](Index a, Index b) {
-    const int pa = f->new_index[std::size_t(a)], pb = f->new_index[std::size_t(b)];
-    if (pa != pb) above[std::size_t(std::max(pa, pb))].push_back(std::min(pa, pb));
-  });
-  f->up_count.assign(std::size_t(n), 0);
+  std::vector<std::vector<int>> above(n);
+  for (std::size_t a = 0; a < n; ++a)
+    for (ParticleGraph::InnerIterator it(graph, Eigen::Index(a)); it; ++it) {
+      const int pa = place[a], pb = place[std::size_t(it.row())];
+      if (pa < pb) above[std::size_t(pb)].push_back(pa);
+    }
+  piece->up_count.assign(n, 0);
   std::size_t nnz = 0;
-  for (auto& rows : above) {
-    std::sort(rows.begin(), rows.end());
-    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-  }
-  for (Index j = 0; j < n; ++j) {
-    f->up_count[std::size_t(j)] = int(above[std::size_t(j)].size());
-    nnz += 9 * above[std::size_t(j)].size() + 6;
-  }
-  f->spring_pos.assign(std::size_t(m.spring_count), 0);
-  for (Index s = 0; s < m.spring_count; ++s) {
-    const int pa = f->new_index[std::size_t(m.spring_a[s])], pb = f->new_index[std::size_t(m.spring_b[s])];
-    const auto& rows = above[std::size_t(std::max(pa, pb))];
-    f->spring_pos[std::size_t(s)] = int(std::lower_bound(rows.begin(), rows.end(), std::min(pa, pb)) - rows.begin());
+  for (std::size_t j = 0; j < n; ++j) {
+    std::sort(above[j].begin(), above[j].end());
+    piece->up_count[j] = int(above[j].size());
+    nnz += 9 * above[j].size() + 6;
   }
   // The scalar pattern: column 3J + c holds rows 3I..3I+2 of each neighbour I, then the diagonal rows 3J..3J+c.
-  cholmod_common& c = f->common;
-  const auto dim = std::size_t(3 * n);
-  f->a = cholmod_allocate_sparse(dim, dim, nnz, /*sorted=*/1, /*packed=*/1, /*stype=*/1, CHOLMOD_REAL, &c);
-  int* outer = static_cast<int*>(f->a->p);
-  int* inner = static_cast<int*>(f->a->i);
+  cholmod_common& c = piece->common;
+  const std::size_t dim = 3 * n;
+  piece->a = cholmod_allocate_sparse(dim, dim, nnz, /*sorted=*/1, /*packed=*/1, /*stype=*/1, CHOLMOD_REAL, &c);
+  int* outer = static_cast<int*>(piece->a->p);
+  int* inner = static_cast<int*>(piece->a->i);
   int at = 0;
-  for (Index j = 0; j < n; ++j)
+  for (std::size_t j = 0; j < n; ++j)
     for (int col = 0; col < 3; ++col) {
-      outer[3 * j + col] = at;
-      for (int i : above[std::size_t(j)])
+      outer[3 * j + std::size_t(col)] = at;
+      for (int i : above[j])
         for (int r = 0; r < 3; ++r) inner[at++] = 3 * i + r;
-      for (int r = 0; r <= col; ++r) inner[at++] = 3 * j + r;
+      for (int r = 0; r <= col; ++r) inner[at++] = 3 * int(j) + r;
     }
-  outer[3 * n] = at;
-  std::fill_n(static_cast<Real*>(f->a->x), nnz, Real(0));
+  outer[dim] = at;
+  std::fill_n(static_cast<Real*>(piece->a->x), nnz, Real(0));
   // The ordering is the block ordering above (whole 3x3 blocks, so each particle's rows form a supernode
   // together); the supernodal factorisation runs the dense blocks through BLAS (Davis 2006, ch. 9; Chen et al.
   // 2008).
@@ -200,37 +196,148 @@ CholeskyFactorPtr analyse(const Model& m, std::vector<int> new_index) {
   c.final_ll = 1;
   c.print = 0;
   c.error_handler = nullptr;
-  f->factor = cholmod_analyze(f->a, &c);  // reads the pattern only
-  f->flops = c.fl;
-  f->rhs = cholmod_zeros(dim, 1, CHOLMOD_REAL, &c);
-  f->sol = cholmod_zeros(dim, 1, CHOLMOD_REAL, &c);
-  if (!f->factor || !f->rhs || !f->sol) std::abort();  // out of memory while sizing the workspace
-  return f;
+  piece->factor = cholmod_analyze(piece->a, &c);  // reads the pattern only
+  piece->flops = c.fl;
+  piece->rhs = cholmod_zeros(dim, 1, CHOLMOD_REAL, &c);
+  piece->sol = cholmod_zeros(dim, 1, CHOLMOD_REAL, &c);
+  if (!piece->factor || !piece->rhs || !piece->sol) std::abort();  // out of memory while sizing the workspace
+  return piece;
+}
+
+// The first entry of block row I in each scalar column of block column J > I, which the pattern holds: its
+// rows are sorted, the neighbours' before the diagonal.
+int block_entry(const CholeskyPiece& piece, int i, int j) {
+  const int* outer = static_cast<const int*>(piece.a->p);
+  const int* column = static_cast<const int*>(piece.a->i) + outer[3 * j];
+  return int(std::lower_bound(column, column + 3 * piece.up_count[std::size_t(j)], 3 * i) - column);
+}
+
+// The connected pieces of the graph, grouped: particle -> its group. A piece of piece_group_particles or more is a
+// group of its own; smaller ones, taken in the order of their first particle, are gathered into a group until it
+// holds that many, so a mesh of many small pieces does not make as many factors.
+constexpr Index piece_group_particles = 512;
+
+std::vector<int> piece_groups(const ParticleGraph& graph, int& group_count) {
+  const Index n = Index(graph.rows());
+  std::vector<int> piece(std::size_t(n), -1);
+  std::vector<Index> size, stack;
+  for (Index seed = 0; seed < n; ++seed) {
+    if (piece[std::size_t(seed)] >= 0) continue;
+    const int id = int(size.size());
+    size.push_back(0);
+    piece[std::size_t(seed)] = id;
+    stack.assign(1, seed);
+    while (!stack.empty()) {
+      const Index a = stack.back();
+      stack.pop_back();
+      ++size.back();
+      for (ParticleGraph::InnerIterator it(graph, a); it; ++it)
+        if (piece[std::size_t(it.row())] < 0) {
+          piece[std::size_t(it.row())] = id;
+          stack.push_back(Index(it.row()));
+        }
+    }
+  }
+  std::vector<int> group_of(size.size(), 0);
+  group_count = 0;
+  int small_group = -1;  // the group small pieces join, while it holds fewer than piece_group_particles
+  Index small_size = 0;
+  for (std::size_t k = 0; k < size.size(); ++k) {
+    if (size[k] >= piece_group_particles) {
+      group_of[k] = group_count++;
+      continue;
+    }
+    if (small_group < 0) {
+      small_group = group_count++;
+      small_size = 0;
+    }
+    group_of[k] = small_group;
+    small_size += size[k];
+    if (small_size >= piece_group_particles) small_group = -1;
+  }
+  for (int& p : piece) p = group_of[std::size_t(p)];
+  return piece;
+}
+
+// The graph of the given particles (ascending), numbered by their rank.
+ParticleGraph subgraph(const ParticleGraph& graph, const std::vector<Index>& members, const std::vector<int>& rank) {
+  std::vector<Eigen::Triplet<Real, int>> entries;
+  for (std::size_t k = 0; k < members.size(); ++k)
+    for (ParticleGraph::InnerIterator it(graph, members[k]); it; ++it)
+      entries.emplace_back(rank[std::size_t(it.row())], int(k), 1);
+  ParticleGraph sub(Eigen::Index(members.size()), Eigen::Index(members.size()));
+  sub.setFromTriplets(entries.begin(), entries.end());
+  sub.makeCompressed();
+  return sub;
 }
 
 }  // namespace
 
 CholeskyFactorPtr build_cholesky_factor(const Model& m, CholeskyOrdering ordering) {
-  // Neither ordering wins everywhere: on a plain sheet minimum degree's factor is cheaper (a 64 x 64 grid: 0.46
-  // against 0.55 GFlop), on a sewn garment nested dissection's is half (the knife-pleat dress with its 851
-  // stitches: 2.3 against 4.7 GFlop; docs/performance.md). The later candidate wins a tie.
-  CholeskyFactorPtr best;
-  for (std::vector<int>& new_index : candidate_orderings(m, ordering)) {
-    CholeskyFactorPtr f = analyse(m, std::move(new_index));
-    if (!best || f->flops <= best->flops) best = std::move(f);
+  blas_on_calling_thread();
+  ParticleGraph graph = particle_graph(m);
+  CholeskyFactorPtr f(new CholeskyFactor);
+  int groups = 0;
+  const std::vector<int> group = piece_groups(graph, groups);
+  std::vector<std::vector<Index>> members(static_cast<std::size_t>(groups));
+  std::vector<int> rank(group.size(), 0);
+  for (Index i = 0; i < m.particle_count; ++i) {
+    auto& list = members[std::size_t(group[std::size_t(i)])];
+    rank[std::size_t(i)] = int(list.size());
+    list.push_back(i);
   }
-  return best;
+  f->new_index.assign(group.size(), 0);
+  std::vector<std::unique_ptr<CholeskyPiece>> pieces;
+  for (int g = 0; g < groups; ++g) {
+    const std::vector<Index>& list = members[std::size_t(g)];
+    ParticleGraph sub = groups == 1 ? std::move(graph) : subgraph(graph, list, rank);
+    // Neither ordering wins everywhere: on a plain sheet minimum degree's factor is cheaper (a 64 x 64 grid: 0.46
+    // against 0.55 GFlop), on a sewn garment nested dissection's is half (the knife-pleat dress with its 851
+    // stitches: 2.3 against 4.7 GFlop; docs/performance.md). The later candidate wins a tie.
+    std::unique_ptr<CholeskyPiece> best;
+    std::vector<int> best_place;
+    for (std::vector<int>& place : candidate_orderings(sub, ordering)) {
+      std::unique_ptr<CholeskyPiece> piece = analyse(sub, place);
+      if (!best || piece->flops <= best->flops) {
+        best = std::move(piece);
+        best_place = std::move(place);
+      }
+    }
+    best->particles.assign(list.size(), 0);
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      f->new_index[std::size_t(list[k])] = best_place[k];
+      best->particles[std::size_t(best_place[k])] = list[k];
+    }
+    pieces.push_back(std::move(best));
+  }
+  // The most flops first, so that a loop that hands out pieces in order gives the longest ones out first.
+  std::stable_sort(pieces.begin(), pieces.end(), [](const auto& a, const auto& b) { return a->flops > b->flops; });
+  f->piece_of.assign(group.size(), 0);
+  for (std::size_t k = 0; k < pieces.size(); ++k)
+    for (Index i : pieces[k]->particles) f->piece_of[std::size_t(i)] = int(k);
+  f->pieces = std::move(pieces);
+  f->spring_pos.assign(std::size_t(m.spring_count), 0);
+  for (Index s = 0; s < m.spring_count; ++s) {
+    const int pa = f->new_index[std::size_t(m.spring_a[s])], pb = f->new_index[std::size_t(m.spring_b[s])];
+    if (pa == pb) continue;
+    const CholeskyPiece& piece = *f->pieces[std::size_t(f->piece_of[std::size_t(m.spring_a[s])])];
+    f->spring_pos[std::size_t(s)] = block_entry(piece, std::min(pa, pb), std::max(pa, pb));
+  }
+  return f;
 }
 
-void cholesky_clear(CholeskyFactor& f) { std::fill_n(static_cast<Real*>(f.a->x), f.a->nzmax, Real(0)); }
+void cholesky_clear(CholeskyFactor& f) {
+  for (const auto& piece : f.pieces) std::fill_n(static_cast<Real*>(piece->a->x), piece->a->nzmax, Real(0));
+}
 
 void cholesky_add_diagonal(CholeskyFactor& f, Index particle, const Sym3& block) {
+  const CholeskyPiece& piece = *f.pieces[std::size_t(f.piece_of[std::size_t(particle)])];
   const int j = f.new_index[std::size_t(particle)];
   const Mat3 b = block.full();
-  Real* v = static_cast<Real*>(f.a->x);
-  const int* outer = static_cast<const int*>(f.a->p);
+  Real* v = static_cast<Real*>(piece.a->x);
+  const int* outer = static_cast<const int*>(piece.a->p);
   for (int c = 0; c < 3; ++c) {
-    const int diag = outer[3 * j + c] + 3 * f.up_count[std::size_t(j)];
+    const int diag = outer[3 * j + c] + 3 * piece.up_count[std::size_t(j)];
     for (int r = 0; r <= c; ++r) v[diag + r] += b(r, c);
   }
 }
@@ -238,10 +345,11 @@ void cholesky_add_diagonal(CholeskyFactor& f, Index particle, const Sym3& block)
 namespace {
 
 // Adds sign * block to the off-diagonal block whose rows start `first` entries into each scalar column of block
-// column j (the matrix is symmetric: only the upper of the (a, b) and (b, a) blocks is stored).
-void add_off_diagonal(CholeskyFactor& f, int j, int first, const Mat3& block, Real sign) {
-  Real* v = static_cast<Real*>(f.a->x);
-  const int* outer = static_cast<const int*>(f.a->p);
+// column j of particle a's piece (the matrix is symmetric: only the upper of the (a, b) and (b, a) blocks is stored).
+void add_off_diagonal(CholeskyFactor& f, Index a, int j, int first, const Mat3& block, Real sign) {
+  const CholeskyPiece& piece = *f.pieces[std::size_t(f.piece_of[std::size_t(a)])];
+  Real* v = static_cast<Real*>(piece.a->x);
+  const int* outer = static_cast<const int*>(piece.a->p);
   for (int c = 0; c < 3; ++c)
     for (int r = 0; r < 3; ++r) v[outer[3 * j + c] + first + r] += sign * block(r, c);
 }
@@ -250,51 +358,68 @@ void add_off_diagonal(CholeskyFactor& f, int j, int first, const Mat3& block, Re
 
 void cholesky_add_coupling(CholeskyFactor& f, Index spring, const Sym3& block, Index a, Index b) {
   const int j = std::max(f.new_index[std::size_t(a)], f.new_index[std::size_t(b)]);
-  add_off_diagonal(f, j, 3 * f.spring_pos[std::size_t(spring)], block.full(), -1);
+  add_off_diagonal(f, a, j, f.spring_pos[std::size_t(spring)], block.full(), -1);
 }
 
 void cholesky_add_block(CholeskyFactor& f, Index a, Index b, const Mat3& ab) {
   const int pa = f.new_index[std::size_t(a)], pb = f.new_index[std::size_t(b)];
   const int i = std::min(pa, pb), j = std::max(pa, pb);
-  const int* outer = static_cast<const int*>(f.a->p);
-  const int* inner = static_cast<const int*>(f.a->i);
-  // Block row I's first entry in column 3J: the pattern's rows are sorted, the neighbours' before the diagonal.
-  const int* column = inner + outer[3 * j];
-  const int first = int(std::lower_bound(column, column + 3 * f.up_count[std::size_t(j)], 3 * i) - column);
+  const int first = block_entry(*f.pieces[std::size_t(f.piece_of[std::size_t(a)])], i, j);
   // The stored block has the rows of the particle placed first: A_ab if that is a, else A_ba = ab^T.
-  add_off_diagonal(f, j, first, pa < pb ? ab : Mat3(ab.transpose()), 1);
+  add_off_diagonal(f, a, j, first, pa < pb ? ab : Mat3(ab.transpose()), 1);
+}
+
+Index cholesky_piece_count(const CholeskyFactor& f) { return Index(f.pieces.size()); }
+
+bool cholesky_factorize_piece(CholeskyFactor& f, Index k) {
+  CholeskyPiece& piece = *f.pieces[std::size_t(k)];
+  serialise_openmp();
+  const int ok = cholmod_factorize(piece.a, piece.factor, &piece.common);
+  return ok && piece.common.status == CHOLMOD_OK && piece.factor->minor == piece.factor->n;
 }
 
 bool cholesky_factorize(CholeskyFactor& f) {
-  serialise_openmp();
-  const int ok = cholmod_factorize(f.a, f.factor, &f.common);
-  return ok && f.common.status == CHOLMOD_OK && f.factor->minor == f.factor->n;
+  bool ok = true;
+  for (Index k = 0; k < cholesky_piece_count(f); ++k) ok = cholesky_factorize_piece(f, k) && ok;
+  return ok;
+}
+
+void cholesky_solve_piece(CholeskyFactor& f, Index k, const Vec3* r, Vec3* z) {
+  CholeskyPiece& piece = *f.pieces[std::size_t(k)];
+  Real* rhs = static_cast<Real*>(piece.rhs->x);
+  for (std::size_t at = 0; at < piece.particles.size(); ++at)
+    for (int c = 0; c < 3; ++c) rhs[3 * at + std::size_t(c)] = r[piece.particles[at]][c];
+  cholmod_solve2(CHOLMOD_A, piece.factor, piece.rhs, nullptr, &piece.sol, nullptr, &piece.work_y, &piece.work_e,
+                 &piece.common);
+  const Real* sol = static_cast<const Real*>(piece.sol->x);
+  for (std::size_t at = 0; at < piece.particles.size(); ++at)
+    z[piece.particles[at]] = Vec3(sol[3 * at], sol[3 * at + 1], sol[3 * at + 2]);
 }
 
 void cholesky_solve(CholeskyFactor& f, const Vec3* r, Vec3* z) {
-  Real* rhs = static_cast<Real*>(f.rhs->x);
-  for (Index i = 0; i < f.n; ++i) {
-    const std::size_t at = 3 * std::size_t(f.new_index[std::size_t(i)]);
-    for (int k = 0; k < 3; ++k) rhs[at + std::size_t(k)] = r[i][k];
-  }
-  cholmod_solve2(CHOLMOD_A, f.factor, f.rhs, nullptr, &f.sol, nullptr, &f.work_y, &f.work_e, &f.common);
-  const Real* sol = static_cast<const Real*>(f.sol->x);
-  for (Index i = 0; i < f.n; ++i) {
-    const std::size_t at = 3 * std::size_t(f.new_index[std::size_t(i)]);
-    z[i] = Vec3(sol[at], sol[at + 1], sol[at + 2]);
-  }
+  for (Index k = 0; k < cholesky_piece_count(f); ++k) cholesky_solve_piece(f, k, r, z);
 }
 
-double cholesky_flops(const CholeskyFactor& f) { return f.flops; }
+double cholesky_piece_flops(const CholeskyFactor& f, Index k) { return f.pieces[std::size_t(k)]->flops; }
+
+double cholesky_flops(const CholeskyFactor& f) {
+  double flops = 0;
+  for (const auto& piece : f.pieces) flops += piece->flops;
+  return flops;
+}
 
 std::size_t cholesky_bytes(const CholeskyFactor& f) {
-  const auto nnz = std::size_t(f.a->nzmax);
-  // A supernodal factor's values (xsize) and row indices (ssize); a simplicial one's nzmax of each.
-  const std::size_t values = f.factor->is_super ? f.factor->xsize : f.factor->nzmax;
-  const std::size_t rows = f.factor->is_super ? f.factor->ssize : f.factor->nzmax;
-  return nnz * (sizeof(Real) + sizeof(int)) + values * sizeof(Real) + rows * sizeof(int) +
-         (f.new_index.size() + f.spring_pos.size() + f.up_count.size()) * sizeof(int) +
-         4 * std::size_t(3 * f.n) * sizeof(Real);
+  std::size_t bytes = (f.piece_of.size() + f.new_index.size() + f.spring_pos.size()) * sizeof(int);
+  for (const auto& piece : f.pieces) {
+    const auto nnz = std::size_t(piece->a->nzmax);
+    const std::size_t n = piece->particles.size();
+    // A supernodal factor's values (xsize) and row indices (ssize); a simplicial one's nzmax of each.
+    const std::size_t values = piece->factor->is_super ? piece->factor->xsize : piece->factor->nzmax;
+    const std::size_t rows = piece->factor->is_super ? piece->factor->ssize : piece->factor->nzmax;
+    bytes += nnz * (sizeof(Real) + sizeof(int)) + values * sizeof(Real) + rows * sizeof(int) +
+             n * (sizeof(Index) + sizeof(int)) + 4 * 3 * n * sizeof(Real);
+  }
+  return bytes;
 }
 
 }  // namespace clothsim

@@ -10,6 +10,10 @@
 // CHOLMOD's supernodal LL^T (Chen, Davis, Hager & Rajamanickam 2008) factors it: the dense blocks of columns
 // with the same pattern go through BLAS. On the knife-pleat dress (47k unknowns, 4.8 M entries in L with AMD)
 // it factors 2.7x and solves 1.7x faster than Eigen's simplicial LDL^T did (docs/performance.md).
+// A matrix of unconnected pieces (a garment's panels before sewing, a scene's separate cloths) is block diagonal:
+// each connected piece of the particle graph (small ones gathered into groups of at least 512 particles) gets its
+// own ordering and factor, so the pieces factor and solve on different threads, each piece on one, and the bytes
+// do not depend on how many threads there are.
 #include <memory>
 #include <vector>
 
@@ -29,7 +33,8 @@ using CholeskyFactorPtr = std::unique_ptr<CholeskyFactor, CholeskyFactorDelete>;
 // through CHOLMOD, approximate minimum degree where CHOLMOD has no METIS), or approximate minimum degree (Eigen's).
 enum class CholeskyOrdering { cheaper, nested_dissection, minimum_degree };
 
-// The upper triangle's pattern (column-major, rows ascending), the ordering and the symbolic factorisation.
+// The upper triangle's pattern (column-major, rows ascending), the ordering and the symbolic factorisation, piece
+// by piece.
 CholeskyFactorPtr build_cholesky_factor(const Model& model,
                                         CholeskyOrdering ordering = CholeskyOrdering::cheaper);
 
@@ -41,12 +46,21 @@ void cholesky_add_coupling(CholeskyFactor& f, Index spring, const Sym3& block, I
 // Adds ab at (a, b) and ab^T at (b, a), a != b, for a pair the pattern holds that is not a spring: a stitch's or
 // a hinge's particles (found by a search of the column, where a spring's place is precomputed).
 void cholesky_add_block(CholeskyFactor& f, Index a, Index b, const Mat3& ab);
-// Numeric factorisation of the values set; false when the matrix is not positive definite.
-// Single-threaded: the same bytes at any thread count.
+// The factor's pieces, the most flops first: handed out in that order, the longest start first.
+Index cholesky_piece_count(const CholeskyFactor& f);
+// Numeric factorisation of piece k's values; false when its matrix is not positive definite. Pieces may be
+// factored at once on different threads; each is factored on one, so the bytes do not depend on the threads.
+bool cholesky_factorize_piece(CholeskyFactor& f, Index k);
+// All pieces, one after the other; false when any is not positive definite.
 bool cholesky_factorize(CholeskyFactor& f);
-// z = A^-1 r with the last factorisation (particle vectors in the original order).
+// z = A^-1 r on piece k's particles with its last factorisation (particle vectors in the original order); pieces
+// write disjoint particles of z, so they may be solved at once.
+void cholesky_solve_piece(CholeskyFactor& f, Index k, const Vec3* r, Vec3* z);
+// All pieces, one after the other.
 void cholesky_solve(CholeskyFactor& f, const Vec3* r, Vec3* z);
-// Floating-point operations of one numeric factorisation, as CHOLMOD's analysis counts them.
+// Floating-point operations of one numeric factorisation, as CHOLMOD's analysis counts them: of piece k, and of
+// all pieces.
+double cholesky_piece_flops(const CholeskyFactor& f, Index k);
 double cholesky_flops(const CholeskyFactor& f);
 // Bytes held: pattern, values, factor and the permuted vectors.
 std::size_t cholesky_bytes(const CholeskyFactor& f);

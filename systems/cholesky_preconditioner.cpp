@@ -2,14 +2,29 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 
+#include "core/blas_kernel.h"
 #include "systems/contact_filter.h"
 #include "systems/implicit_system.h"
+#include "systems/parallel.h"
 #include "systems/stitch_forces.h"
 
 namespace clothsim {
 
 namespace {
+
+// Runs job(k) for each piece of the factor: handed out to free threads where the BLAS allows calls at once
+// (core/blas_kernel.h), one after the other where it does not. The same bytes either way.
+template <class Job>
+void for_each_piece(CholeskyFactor& f, Job&& job) {
+  const Index pieces = cholesky_piece_count(f);
+  if (blas_calls_may_overlap()) {
+    parallel_hand_out(pieces, job);
+  } else {
+    for (Index k = 0; k < pieces; ++k) job(k);
+  }
+}
 
 // Numeric refactorisation of the step's matrix; ws.spring_block and the particle terms must be current.
 void factor_now(const Model& m, Real h, Workspace& ws) {
@@ -61,7 +76,13 @@ void factor_now(const Model& m, Real h, Workspace& ws) {
         if (m.particle_inv_mass[p[l]] > 0) cholesky_add_block(f, p[k], p[l], (h * h) * (u[k] * u[l].transpose()));
     }
   }
-  ws.cholesky_h = cholesky_factorize(f) ? h : 0;
+  // The pieces (core/cholesky_factor.h) factor on whichever thread is free, the longest first, where the BLAS
+  // allows calls at once.
+  std::atomic<bool> factored{true};
+  for_each_piece(f, [&](Index k) {
+    if (!cholesky_factorize_piece(f, k)) factored = false;
+  });
+  ws.cholesky_h = factored ? h : 0;
   ws.cholesky_solves = 0;
 }
 
@@ -89,7 +110,7 @@ int renew_stale_cholesky(const Model& m, Real h, Workspace& ws) {
 
 void apply_cholesky(const Model& m, Workspace& ws, std::span<const Vec3> r, std::span<Vec3> z) {
   if (ws.cholesky_h != 0) {
-    cholesky_solve(*ws.cholesky, r.data(), z.data());
+    for_each_piece(*ws.cholesky, [&](Index k) { cholesky_solve_piece(*ws.cholesky, k, r.data(), z.data()); });
     return;
   }
   parallel_over(m.particle_count, particle_grain, [&](Index i) { z[i] = ws.cg_precond[i] * r[i]; });
