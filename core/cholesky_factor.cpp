@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cstdlib>
 
-#include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
 
 #include "core/blas_kernel.h"
@@ -19,6 +18,7 @@ namespace clothsim {
 // vectors, and its own cholmod_common, so pieces factor and solve on different threads.
 struct CholeskyPiece {
   std::vector<Index> particles;  // the piece's particles in its ordering: particles[k] is placed k-th
+  std::vector<Index> springs, stitches, hinges;  // whose entries lie in the piece, ascending
   std::vector<int> up_count;     // off-diagonal blocks above the diagonal in each block column
   double flops = 0;              // floating-point operations of one numeric factorisation (the analysis's count)
   cholmod_common common{};
@@ -51,95 +51,6 @@ struct CholeskyFactor {
 void CholeskyFactorDelete::operator()(CholeskyFactor* f) const { delete f; }
 
 namespace {
-
-// Calls pair(a, b) for each pair of particles the matrix couples: the ends of every spring, each two distinct
-// particles of a stitch (the vertex and the two it is sewn between), so a seam between panels is in the pattern,
-// and each two of a dihedral hinge's four (o1-o2 is no spring's: it replaces the bend spring there).
-template <class Pair>
-void for_each_coupled_pair(const Model& m, Pair&& pair) {
-  for (Index s = 0; s < m.spring_count; ++s) pair(m.spring_a[s], m.spring_b[s]);
-  for (Index s = 0; s < m.stitch_count; ++s) {
-    const Index p[3] = {m.stitch_a[s], m.stitch_b[s], m.stitch_c[s]};
-    for (int k = 0; k < 3; ++k)
-      for (int l = k + 1; l < 3; ++l)
-        if (p[k] != p[l]) pair(p[k], p[l]);
-  }
-  for (Index h = 0; h < m.hinge_count; ++h) {
-    const std::array<Index, 4> p = hinge_particles(m, h);
-    for (int k = 0; k < 4; ++k)
-      for (int l = k + 1; l < 4; ++l) pair(p[k], p[l]);
-  }
-}
-
-using ParticleGraph = Eigen::SparseMatrix<Real, Eigen::ColMajor, int>;
-
-// The particles and the pairs for_each_coupled_pair names, as a symmetric pattern (both triangles, compressed).
-ParticleGraph particle_graph(const Model& m) {
-  const Index n = m.particle_count;
-  std::vector<Eigen::Triplet<Real, int>> entries;
-  entries.reserve(std::size_t(n) + 2 * std::size_t(m.spring_count));
-  for (Index i = 0; i < n; ++i) entries.emplace_back(i, i, 1);
-  for_each_coupled_pair(m, [&](Index a, Index b) {
-    entries.emplace_back(a, b, 1);
-    entries.emplace_back(b, a, 1);
-  });
-  ParticleGraph graph(n, n);
-  graph.setFromTriplets(entries.begin(), entries.end());
-  graph.makeCompressed();
-  return graph;
-}
-
-// Particle -> its place, from old_of_new[k], the particle placed k-th.
-std::vector<int> places(const int* old_of_new, Index n) {
-  std::vector<int> new_index(std::size_t(n), 0);
-  for (Index k = 0; k < n; ++k) new_index[std::size_t(old_of_new[k])] = k;
-  return new_index;
-}
-
-// METIS's nested dissection (Karypis & Kumar 1998, through CHOLMOD) of the graph, read as its upper triangle:
-// particle -> its place. METIS seeds its own generator with a fixed value, so the ordering is the same on every
-// run and at any thread count. Empty where CHOLMOD was built without METIS.
-std::vector<int> nested_dissection(ParticleGraph& graph) {
-  cholmod_sparse a{};
-  a.nrow = a.ncol = std::size_t(graph.rows());
-  a.nzmax = std::size_t(graph.nonZeros());
-  a.p = graph.outerIndexPtr();
-  a.i = graph.innerIndexPtr();
-  a.x = graph.valuePtr();
-  a.stype = 1;  // symmetric, upper triangle read
-  a.itype = CHOLMOD_INT;
-  a.xtype = CHOLMOD_PATTERN;
-  a.dtype = CHOLMOD_DOUBLE;
-  a.sorted = 1;
-  a.packed = 1;
-  cholmod_common c;
-  cholmod_start(&c);
-  c.print = 0;
-  c.error_handler = nullptr;
-  std::vector<int> old_of_new(std::size_t(graph.rows()), 0);
-  const bool ok = cholmod_metis(&a, nullptr, 0, /*postorder=*/1, old_of_new.data(), &c) && c.status == CHOLMOD_OK;
-  cholmod_finish(&c);
-  return ok ? places(old_of_new.data(), graph.rows()) : std::vector<int>{};
-}
-
-// Approximate minimum degree (Amestoy, Davis & Duff 1996) of the graph: particle -> its place.
-std::vector<int> minimum_degree(const ParticleGraph& graph) {
-  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> old_of_new;  // AMD returns the inverse permutation
-  Eigen::AMDOrdering<int>()(graph, old_of_new);
-  return places(old_of_new.indices().data(), graph.rows());
-}
-
-// The orderings to analyse for the one asked: nested dissection then minimum degree for the cheaper of the two;
-// nested dissection falls back to minimum degree where CHOLMOD has no METIS.
-std::vector<std::vector<int>> candidate_orderings(ParticleGraph& graph, CholeskyOrdering ordering) {
-  std::vector<std::vector<int>> found;
-  if (ordering != CholeskyOrdering::minimum_degree) {
-    std::vector<int> nd = nested_dissection(graph);
-    if (!nd.empty()) found.push_back(std::move(nd));
-  }
-  if (ordering != CholeskyOrdering::nested_dissection || found.empty()) found.push_back(minimum_degree(graph));
-  return found;
-}
 
 // Debian's CHOLMOD runs parts of its supernodal factorisation in OpenMP teams of a fixed 4 threads: on top of
 // the step's own threads they cost more than they save (the dress of docs/performance.md: 0.27 s a factorisation
@@ -212,65 +123,6 @@ int block_entry(const CholeskyPiece& piece, int i, int j) {
   return int(std::lower_bound(column, column + 3 * piece.up_count[std::size_t(j)], 3 * i) - column);
 }
 
-// The connected pieces of the graph, grouped: particle -> its group. A piece of piece_group_particles or more is a
-// group of its own; smaller ones, taken in the order of their first particle, are gathered into a group until it
-// holds that many, so a mesh of many small pieces does not make as many factors.
-constexpr Index piece_group_particles = 512;
-
-std::vector<int> piece_groups(const ParticleGraph& graph, int& group_count) {
-  const Index n = Index(graph.rows());
-  std::vector<int> piece(std::size_t(n), -1);
-  std::vector<Index> size, stack;
-  for (Index seed = 0; seed < n; ++seed) {
-    if (piece[std::size_t(seed)] >= 0) continue;
-    const int id = int(size.size());
-    size.push_back(0);
-    piece[std::size_t(seed)] = id;
-    stack.assign(1, seed);
-    while (!stack.empty()) {
-      const Index a = stack.back();
-      stack.pop_back();
-      ++size.back();
-      for (ParticleGraph::InnerIterator it(graph, a); it; ++it)
-        if (piece[std::size_t(it.row())] < 0) {
-          piece[std::size_t(it.row())] = id;
-          stack.push_back(Index(it.row()));
-        }
-    }
-  }
-  std::vector<int> group_of(size.size(), 0);
-  group_count = 0;
-  int small_group = -1;  // the group small pieces join, while it holds fewer than piece_group_particles
-  Index small_size = 0;
-  for (std::size_t k = 0; k < size.size(); ++k) {
-    if (size[k] >= piece_group_particles) {
-      group_of[k] = group_count++;
-      continue;
-    }
-    if (small_group < 0) {
-      small_group = group_count++;
-      small_size = 0;
-    }
-    group_of[k] = small_group;
-    small_size += size[k];
-    if (small_size >= piece_group_particles) small_group = -1;
-  }
-  for (int& p : piece) p = group_of[std::size_t(p)];
-  return piece;
-}
-
-// The graph of the given particles (ascending), numbered by their rank.
-ParticleGraph subgraph(const ParticleGraph& graph, const std::vector<Index>& members, const std::vector<int>& rank) {
-  std::vector<Eigen::Triplet<Real, int>> entries;
-  for (std::size_t k = 0; k < members.size(); ++k)
-    for (ParticleGraph::InnerIterator it(graph, members[k]); it; ++it)
-      entries.emplace_back(rank[std::size_t(it.row())], int(k), 1);
-  ParticleGraph sub(Eigen::Index(members.size()), Eigen::Index(members.size()));
-  sub.setFromTriplets(entries.begin(), entries.end());
-  sub.makeCompressed();
-  return sub;
-}
-
 }  // namespace
 
 CholeskyFactorPtr build_cholesky_factor(const Model& m, CholeskyOrdering ordering) {
@@ -316,18 +168,43 @@ CholeskyFactorPtr build_cholesky_factor(const Model& m, CholeskyOrdering orderin
   for (std::size_t k = 0; k < pieces.size(); ++k)
     for (Index i : pieces[k]->particles) f->piece_of[std::size_t(i)] = int(k);
   f->pieces = std::move(pieces);
+  const auto piece_of = [&](Index particle) -> CholeskyPiece& {
+    return *f->pieces[std::size_t(f->piece_of[std::size_t(particle)])];
+  };
   f->spring_pos.assign(std::size_t(m.spring_count), 0);
   for (Index s = 0; s < m.spring_count; ++s) {
+    CholeskyPiece& piece = piece_of(m.spring_a[s]);
+    piece.springs.push_back(s);
     const int pa = f->new_index[std::size_t(m.spring_a[s])], pb = f->new_index[std::size_t(m.spring_b[s])];
-    if (pa == pb) continue;
-    const CholeskyPiece& piece = *f->pieces[std::size_t(f->piece_of[std::size_t(m.spring_a[s])])];
-    f->spring_pos[std::size_t(s)] = block_entry(piece, std::min(pa, pb), std::max(pa, pb));
+    if (pa != pb) f->spring_pos[std::size_t(s)] = block_entry(piece, std::min(pa, pb), std::max(pa, pb));
   }
+  for (Index s = 0; s < m.stitch_count; ++s) piece_of(m.stitch_a[s]).stitches.push_back(s);
+  for (Index h = 0; h < m.hinge_count; ++h) piece_of(hinge_particles(m, h)[0]).hinges.push_back(h);
   return f;
 }
 
+Index cholesky_piece_count(const CholeskyFactor& f) { return Index(f.pieces.size()); }
+
+std::span<const Index> cholesky_piece_particles(const CholeskyFactor& f, Index k) {
+  return f.pieces[std::size_t(k)]->particles;
+}
+std::span<const Index> cholesky_piece_springs(const CholeskyFactor& f, Index k) {
+  return f.pieces[std::size_t(k)]->springs;
+}
+std::span<const Index> cholesky_piece_stitches(const CholeskyFactor& f, Index k) {
+  return f.pieces[std::size_t(k)]->stitches;
+}
+std::span<const Index> cholesky_piece_hinges(const CholeskyFactor& f, Index k) {
+  return f.pieces[std::size_t(k)]->hinges;
+}
+
+void cholesky_clear_piece(CholeskyFactor& f, Index k) {
+  const CholeskyPiece& piece = *f.pieces[std::size_t(k)];
+  std::fill_n(static_cast<Real*>(piece.a->x), piece.a->nzmax, Real(0));
+}
+
 void cholesky_clear(CholeskyFactor& f) {
-  for (const auto& piece : f.pieces) std::fill_n(static_cast<Real*>(piece->a->x), piece->a->nzmax, Real(0));
+  for (Index k = 0; k < cholesky_piece_count(f); ++k) cholesky_clear_piece(f, k);
 }
 
 void cholesky_add_diagonal(CholeskyFactor& f, Index particle, const Sym3& block) {
@@ -369,7 +246,6 @@ void cholesky_add_block(CholeskyFactor& f, Index a, Index b, const Mat3& ab) {
   add_off_diagonal(f, a, j, first, pa < pb ? ab : Mat3(ab.transpose()), 1);
 }
 
-Index cholesky_piece_count(const CholeskyFactor& f) { return Index(f.pieces.size()); }
 
 bool cholesky_factorize_piece(CholeskyFactor& f, Index k) {
   CholeskyPiece& piece = *f.pieces[std::size_t(k)];
@@ -417,7 +293,8 @@ std::size_t cholesky_bytes(const CholeskyFactor& f) {
     const std::size_t values = piece->factor->is_super ? piece->factor->xsize : piece->factor->nzmax;
     const std::size_t rows = piece->factor->is_super ? piece->factor->ssize : piece->factor->nzmax;
     bytes += nnz * (sizeof(Real) + sizeof(int)) + values * sizeof(Real) + rows * sizeof(int) +
-             n * (sizeof(Index) + sizeof(int)) + 4 * 3 * n * sizeof(Real);
+             n * (sizeof(Index) + sizeof(int)) + 4 * 3 * n * sizeof(Real) +
+             (piece->springs.size() + piece->stitches.size() + piece->hinges.size()) * sizeof(Index);
   }
   return bytes;
 }

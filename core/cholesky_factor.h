@@ -15,9 +15,11 @@
 // own ordering and factor, so the pieces factor and solve on different threads, each piece on one, and the bytes
 // do not depend on how many threads there are.
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "core/math.h"
+#include "core/particle_graph.h"
 
 namespace clothsim {
 
@@ -29,25 +31,30 @@ struct CholeskyFactorDelete {
 };
 using CholeskyFactorPtr = std::unique_ptr<CholeskyFactor, CholeskyFactorDelete>;
 
-// Fill-reducing orderings of the particle graph: the cheaper of the two that follow, nested dissection (METIS
-// through CHOLMOD, approximate minimum degree where CHOLMOD has no METIS), or approximate minimum degree (Eigen's).
-enum class CholeskyOrdering { cheaper, nested_dissection, minimum_degree };
-
 // The upper triangle's pattern (column-major, rows ascending), the ordering and the symbolic factorisation, piece
 // by piece.
 CholeskyFactorPtr build_cholesky_factor(const Model& model,
                                         CholeskyOrdering ordering = CholeskyOrdering::cheaper);
 
+// The factor's pieces, the most flops first: handed out in that order, the longest start first.
+Index cholesky_piece_count(const CholeskyFactor& f);
+// What lies in piece k: its particles (in its ordering), and the springs, stitches and hinges whose blocks are in
+// its matrix (ascending). Each particle, spring, stitch and hinge is in exactly one piece, so pieces may be filled
+// at once on different threads.
+std::span<const Index> cholesky_piece_particles(const CholeskyFactor& f, Index k);
+std::span<const Index> cholesky_piece_springs(const CholeskyFactor& f, Index k);
+std::span<const Index> cholesky_piece_stitches(const CholeskyFactor& f, Index k);
+std::span<const Index> cholesky_piece_hinges(const CholeskyFactor& f, Index k);
+
 // The matrix's values, set before factorising: zeroed, then blocks added (values in the original particle order).
-void cholesky_clear(CholeskyFactor& f);
+void cholesky_clear_piece(CholeskyFactor& f, Index k);
+void cholesky_clear(CholeskyFactor& f);  // every piece
 void cholesky_add_diagonal(CholeskyFactor& f, Index particle, const Sym3& block);
 // Adds -block at (a, b) and (b, a): a spring's coupling (A p)_a = ... - B_s p_b.
 void cholesky_add_coupling(CholeskyFactor& f, Index spring, const Sym3& block, Index a, Index b);
 // Adds ab at (a, b) and ab^T at (b, a), a != b, for a pair the pattern holds that is not a spring: a stitch's or
 // a hinge's particles (found by a search of the column, where a spring's place is precomputed).
 void cholesky_add_block(CholeskyFactor& f, Index a, Index b, const Mat3& ab);
-// The factor's pieces, the most flops first: handed out in that order, the longest start first.
-Index cholesky_piece_count(const CholeskyFactor& f);
 // Numeric factorisation of piece k's values; false when its matrix is not positive definite. Pieces may be
 // factored at once on different threads; each is factored on one, so the bytes do not depend on the threads.
 bool cholesky_factorize_piece(CholeskyFactor& f, Index k);

@@ -26,26 +26,28 @@ void for_each_piece(CholeskyFactor& f, Job&& job) {
   }
 }
 
-// Numeric refactorisation of the step's matrix; ws.spring_block and the particle terms must be current.
-void factor_now(const Model& m, Real h, Workspace& ws) {
+// Piece k's matrix, its values set from the step's terms; ws.spring_block and the particle terms must be current.
+// Each entry gets its terms in the same order as a fill of the whole matrix would add them (diagonal, springs,
+// stitches, hinges, each in ascending order), so the values do not depend on how the pieces are shared out.
+void fill_piece(const Model& m, Real h, Workspace& ws, Index k) {
   CholeskyFactor& f = *ws.cholesky;
-  cholesky_clear(f);
+  cholesky_clear_piece(f, k);
   // The filter of Baraff & Witkin §5.3 with S = 0: a pinned particle's row and column are the identity's, and
   // its springs add only to their free end's diagonal block.
-  for (Index i = 0; i < m.particle_count; ++i) {
+  for (const Index i : cholesky_piece_particles(f, k)) {
     if (!(m.particle_inv_mass[i] > 0)) {
       cholesky_add_diagonal(f, i, Sym3::from(Mat3::Identity()));
       continue;
     }
     Sym3 block = Sym3::from(particle_system_block(m, i, 1 / m.particle_inv_mass[i], h, ws));
-    for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
-      const Index e = m.particle_spring_index[k];
+    for (Index j = m.particle_spring_offset[i]; j < m.particle_spring_offset[i + 1]; ++j) {
+      const Index e = m.particle_spring_index[j];
       block += ws.spring_block[e >= 0 ? e : ~e];
     }
     block += hold_block(ws, i, block);
     cholesky_add_diagonal(f, i, block);
   }
-  for (Index s = 0; s < m.spring_count; ++s) {
+  for (const Index s : cholesky_piece_springs(f, k)) {
     const Index a = m.spring_a[s], b = m.spring_b[s];
     if (a != b && m.particle_inv_mass[a] > 0 && m.particle_inv_mass[b] > 0)
       cholesky_add_coupling(f, s, ws.spring_block[s], a, b);
@@ -53,34 +55,38 @@ void factor_now(const Model& m, Real h, Workspace& ws) {
   // Stitches: c_k c_l (h Kv + h^2 Kx) between their particles k, l (systems/stitch_forces.h), the same terms
   // the CG's product applies; without them the factor of a sewn garment misses its seams and CG stalls. A slack
   // thread's zero blocks stay in the pattern, which is fixed for the run.
-  for (Index s = 0; s < m.stitch_count; ++s) {
+  for (const Index s : cholesky_piece_stitches(f, k)) {
     const std::array<Index, 3> p = stitch_particles(m, s);
     const std::array<Real, 3> c = stitch_coefficients(m.stitch_w[s]);
     const Mat3 coef = ws.stitch_block[s].full();
-    for (int k = 0; k < 3; ++k)
-      for (int l = 0; l < 3; ++l) {
-        if (!(m.particle_inv_mass[p[k]] > 0) || !(m.particle_inv_mass[p[l]] > 0)) continue;
-        const Mat3 block = (c[k] * c[l]) * coef;
-        if (p[k] == p[l]) cholesky_add_diagonal(f, p[k], Sym3::from(block));
-        else if (k < l) cholesky_add_block(f, p[k], p[l], block);
+    for (int u = 0; u < 3; ++u)
+      for (int v = 0; v < 3; ++v) {
+        if (!(m.particle_inv_mass[p[u]] > 0) || !(m.particle_inv_mass[p[v]] > 0)) continue;
+        const Mat3 block = (c[u] * c[v]) * coef;
+        if (p[u] == p[v]) cholesky_add_diagonal(f, p[u], Sym3::from(block));
+        else if (u < v) cholesky_add_block(f, p[u], p[v], block);
       }
   }
   // Hinges: h^2 u_k u_l^T between their particles k, l (systems/bend_forces.h), as in the CG's product.
-  for (Index hg = 0; hg < m.hinge_count; ++hg) {
+  for (const Index hg : cholesky_piece_hinges(f, k)) {
     const std::array<Index, 4> p = hinge_particles(m, hg);
     const Vec3* u = &ws.hinge_jac[4 * std::size_t(hg)];
-    for (int k = 0; k < 4; ++k) {
-      if (!(m.particle_inv_mass[p[k]] > 0)) continue;
-      cholesky_add_diagonal(f, p[k], Sym3::from((h * h) * (u[k] * u[k].transpose())));
-      for (int l = k + 1; l < 4; ++l)
-        if (m.particle_inv_mass[p[l]] > 0) cholesky_add_block(f, p[k], p[l], (h * h) * (u[k] * u[l].transpose()));
+    for (int a = 0; a < 4; ++a) {
+      if (!(m.particle_inv_mass[p[a]] > 0)) continue;
+      cholesky_add_diagonal(f, p[a], Sym3::from((h * h) * (u[a] * u[a].transpose())));
+      for (int b = a + 1; b < 4; ++b)
+        if (m.particle_inv_mass[p[b]] > 0) cholesky_add_block(f, p[a], p[b], (h * h) * (u[a] * u[b].transpose()));
     }
   }
-  // The pieces (core/cholesky_factor.h) factor on whichever thread is free, the longest first, where the BLAS
-  // allows calls at once.
+}
+
+// Numeric refactorisation of the step's matrix. The pieces (core/cholesky_factor.h) are filled and factored on
+// whichever thread is free, the longest first, where the BLAS allows calls at once.
+void factor_now(const Model& m, Real h, Workspace& ws) {
   std::atomic<bool> factored{true};
-  for_each_piece(f, [&](Index k) {
-    if (!cholesky_factorize_piece(f, k)) factored = false;
+  for_each_piece(*ws.cholesky, [&](Index k) {
+    fill_piece(m, h, ws, k);
+    if (!cholesky_factorize_piece(*ws.cholesky, k)) factored = false;
   });
   ws.cholesky_h = factored ? h : 0;
   ws.cholesky_solves = 0;
