@@ -31,7 +31,7 @@ struct CholeskyFactorDelete {
 };
 using CholeskyFactorPtr = std::unique_ptr<CholeskyFactor, CholeskyFactorDelete>;
 
-// The upper triangle's pattern (column-major, rows ascending), the ordering and the symbolic factorisation, piece
+// The lower triangle's pattern (column-major, rows ascending), the ordering and the symbolic factorisation, piece
 // by piece.
 CholeskyFactorPtr build_cholesky_factor(const Model& model,
                                         CholeskyOrdering ordering = CholeskyOrdering::cheaper);
