@@ -11,6 +11,7 @@
 #include <string>
 
 #include "core/blas_kernel.h"
+#include "core/cholesky_factor.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
 #include "io/mtl_writer.h"
@@ -140,6 +141,14 @@ int cmd_run(int argc, char** argv) {
                    "OPENBLAS_CORETYPE=%s makes the Cholesky factorisation faster (docs/performance.md, "
                    "\"The BLAS kernels\")\n",
                    stats.blas_kernel.c_str(), coretype.c_str());
+    if (ws.cholesky) stats.cholesky_pieces = int(cholesky_piece_count(*ws.cholesky));
+    if (stats.cholesky_pieces > 1 && threads > 1 && !blas_calls_may_overlap())
+      std::fprintf(stderr,
+                   "clothsim: warning: the BLAS is OpenBLAS's single-threaded build, which cannot take calls from two "
+                   "threads at once: the cloth's %d pieces are factored one after the other; Debian's "
+                   "libopenblas0-pthread lets them be factored at once (docs/performance.md, \"Pieces factored at "
+                   "once\")\n",
+                   stats.cholesky_pieces);
   }
   stats.load_seconds = loaded.load_seconds;
   stats.topology_seconds = loaded.topology_seconds;

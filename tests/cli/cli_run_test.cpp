@@ -172,3 +172,28 @@ TEST_CASE("validate warns on undamped explicit Euler and on colliders with colli
   CHECK(validate("collisionIterations=\"0\"", "0.1", false).find(off) == std::string::npos);
   CHECK(validate("collisionIterations=\"1\"", "0.1", true).find(off) == std::string::npos);
 }
+
+TEST_CASE("an implicit scene of three cloths: three Cholesky pieces in --stats, and the same bytes at 1 and 2 threads") {
+  // Two 24 x 24 sheets (576 particles: a piece each) and an 8 x 8 one (64: gathered, alone, into a third).
+  std::string scene = R"(<scene>
+  <simulation timestep="0.01" fps="25" startFrame="1" endFrame="4" integrator="implicit" preconditioner="cholesky"/>)";
+  const char* sheets[3][2] = {{"24 24", "0 1 0"}, {"8 8", "2 1 0"}, {"24 24", "4 1 0"}};
+  for (int k = 0; k < 3; ++k)
+    scene += std::string(R"(
+  <cloth name="s)") + std::to_string(k) + R"(" grid=")" + sheets[k][0] + R"(" size="1 1" translate=")" + sheets[k][1] +
+             R"(" saveName="s)" + std::to_string(k) + R"(">
+    <density value="0.2"/><stiffness value="1000" bend="0.1"/><damping value="0.1"/><pins vertices="0"/>
+  </cloth>)";
+  scene += "\n</scene>\n";
+  const fs::path dir = scratch_dir("cholesky_pieces");
+  write_text(dir / "scene.xml", scene);
+  for (const char* n : {"1", "2"})
+    REQUIRE(run_cli("run " + (dir / "scene.xml").string() + " --quiet --threads " + n + " --out " + (dir / n).string() +
+                    " --stats " + (dir / n).string() + ".json").exit_code == 0);
+  CHECK(read_text(dir / "2.json").find("\"cholesky_pieces\":3") != std::string::npos);
+  const auto files = files_in(dir / "1");
+  REQUIRE(files.size() == 12);
+  CHECK(files == files_in(dir / "2"));
+  for (const std::string& f : files) CHECK(read_text(dir / "1" / f) == read_text(dir / "2" / f));
+  CHECK(read_text(dir / "1" / "s2.0004.obj") != read_text(dir / "1" / "s2.0001.obj"));  // it did move
+}
