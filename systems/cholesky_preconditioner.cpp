@@ -52,7 +52,7 @@ void fill_piece(const Model& m, Real h, Workspace& ws, Index k) {
     if (a != b && m.particle_inv_mass[a] > 0 && m.particle_inv_mass[b] > 0)
       cholesky_add_coupling(f, s, ws.spring_block[s], a, b);
   }
-  // Stitches: c_k c_l (h Kv + h^2 Kx) between their particles k, l (systems/stitch_forces.h), the same terms
+  // Stitches: c_u c_v (h Kv + h^2 Kx) between their particles u, v (systems/stitch_forces.h), the same terms
   // the CG's product applies; without them the factor of a sewn garment misses its seams and CG stalls. A slack
   // thread's zero blocks stay in the pattern, which is fixed for the run.
   for (const Index s : cholesky_piece_stitches(f, k)) {
@@ -67,7 +67,7 @@ void fill_piece(const Model& m, Real h, Workspace& ws, Index k) {
         else if (u < v) cholesky_add_block(f, p[u], p[v], block);
       }
   }
-  // Hinges: h^2 u_k u_l^T between their particles k, l (systems/bend_forces.h), as in the CG's product.
+  // Hinges: h^2 u_a u_b^T between their particles a, b (systems/bend_forces.h), as in the CG's product.
   for (const Index hg : cholesky_piece_hinges(f, k)) {
     const std::array<Index, 4> p = hinge_particles(m, hg);
     const Vec3* u = &ws.hinge_jac[4 * std::size_t(hg)];
