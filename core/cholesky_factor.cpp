@@ -44,7 +44,7 @@ struct CholeskyPiece {
 struct CholeskyFactor {
   std::vector<int> piece_of;    // particle -> its piece
   std::vector<int> new_index;   // particle -> its place in its piece's ordering
-  std::vector<int> spring_pos;  // the spring's block among the off-diagonal blocks of its column (spring_count)
+  std::vector<int> spring_pos;  // where the spring's block starts among its column's neighbour rows (block_entry)
   std::vector<std::unique_ptr<CholeskyPiece>> pieces;  // the most flops first
 };
 
@@ -268,7 +268,6 @@ void cholesky_add_block(CholeskyFactor& f, Index a, Index b, const Mat3& ab) {
   // The stored block has the rows of the particle placed second: A_ab if that is a, else A_ba = ab^T.
   add_off_diagonal(f, a, i, first, pa > pb ? ab : Mat3(ab.transpose()), 1);
 }
-
 
 bool cholesky_factorize_piece(CholeskyFactor& f, Index k) {
   CholeskyPiece& piece = *f.pieces[std::size_t(k)];

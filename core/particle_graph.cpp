@@ -32,14 +32,12 @@ void for_each_coupled_pair(const Model& m, Pair&& pair) {
   }
 }
 
-
 // Particle -> its place, from old_of_new[k], the particle placed k-th.
 std::vector<int> places(const int* old_of_new, Index n) {
   std::vector<int> new_index(std::size_t(n), 0);
   for (Index k = 0; k < n; ++k) new_index[std::size_t(old_of_new[k])] = k;
   return new_index;
 }
-
 
 // METIS's nested dissection (Karypis & Kumar 1998, through CHOLMOD) of the graph, read as its upper triangle:
 // particle -> its place. METIS seeds its own generator with a fixed value, so the ordering is the same on every
@@ -67,7 +65,6 @@ std::vector<int> nested_dissection(ParticleGraph& graph) {
   return ok ? places(old_of_new.data(), graph.rows()) : std::vector<int>{};
 }
 
-
 // Approximate minimum degree (Amestoy, Davis & Duff 1996) of the graph: particle -> its place.
 std::vector<int> minimum_degree(const ParticleGraph& graph) {
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> old_of_new;  // AMD returns the inverse permutation
@@ -93,7 +90,6 @@ ParticleGraph particle_graph(const Model& m) {
   return graph;
 }
 
-
 // The orderings to analyse for the one asked: nested dissection then minimum degree for the cheaper of the two;
 // nested dissection falls back to minimum degree where CHOLMOD has no METIS.
 std::vector<std::vector<int>> candidate_orderings(ParticleGraph& graph, CholeskyOrdering ordering) {
@@ -105,8 +101,6 @@ std::vector<std::vector<int>> candidate_orderings(ParticleGraph& graph, Cholesky
   if (ordering != CholeskyOrdering::nested_dissection || found.empty()) found.push_back(minimum_degree(graph));
   return found;
 }
-
-
 
 std::vector<int> piece_groups(const ParticleGraph& graph, int& group_count) {
   const Index n = Index(graph.rows());
