@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/cholesky_factor.h"
+#include "tests/support/block_laplacian.h"
 #include "tests/support/spring_fixtures.h"
 
 using namespace clothsim;
@@ -14,35 +15,11 @@ using namespace clothsim::test;
 
 namespace {
 
-// A shifted graph Laplacian with 3x3 blocks over the model's springs: each spring couples its ends by
-// -(I + 0.1 u u^T) for a fixed per-spring direction u, and each diagonal block is its springs' sum plus the
-// identity, so the matrix is symmetric positive definite whatever the ordering.
-struct BlockLaplacian {
-  std::vector<Sym3> spring;
-  std::vector<Mat3> diagonal;
-};
-
-BlockLaplacian block_laplacian(const Model& m) {
-  BlockLaplacian a;
-  a.diagonal.assign(std::size_t(m.particle_count), Mat3::Identity());
-  for (Index s = 0; s < m.spring_count; ++s) {
-    const Vec3 u = Vec3(1, std::sin(Real(s)), std::cos(Real(3 * s))).normalized();
-    const Mat3 b = Mat3::Identity() + 0.1 * u * u.transpose();
-    a.spring.push_back(Sym3::from(b));
-    a.diagonal[std::size_t(m.spring_a[s])] += b;
-    a.diagonal[std::size_t(m.spring_b[s])] += b;
-  }
-  return a;
-}
-
 // Factors the block Laplacian with the given ordering and solves it for r: z = A^-1 r.
 std::vector<Vec3> solve_with(const Model& m, CholeskyOrdering ordering, const BlockLaplacian& a,
                              const std::vector<Vec3>& r) {
   CholeskyFactorPtr f = build_cholesky_factor(m, ordering);
-  cholesky_clear(*f);
-  for (Index i = 0; i < m.particle_count; ++i) cholesky_add_diagonal(*f, i, Sym3::from(a.diagonal[std::size_t(i)]));
-  for (Index s = 0; s < m.spring_count; ++s)
-    cholesky_add_coupling(*f, s, a.spring[std::size_t(s)], m.spring_a[s], m.spring_b[s]);
+  set_block_laplacian(m, a, *f);
   REQUIRE(cholesky_factorize(*f));
   std::vector<Vec3> z(r.size(), Vec3::Zero());
   cholesky_solve(*f, r.data(), z.data());
@@ -100,16 +77,5 @@ TEST_CASE("the Cholesky solve: nested dissection and minimum degree both solve a
   const std::vector<Vec3> nd = solve_with(m, CholeskyOrdering::nested_dissection, a, r);
   const std::vector<Vec3> md = solve_with(m, CholeskyOrdering::minimum_degree, a, r);
   // The residual of each solution, with the matrix applied block by block (an independent product).
-  for (const std::vector<Vec3>* z : {&nd, &md}) {
-    std::vector<Vec3> az(r.size());
-    for (Index i = 0; i < m.particle_count; ++i) az[std::size_t(i)] = a.diagonal[std::size_t(i)] * (*z)[std::size_t(i)];
-    for (Index sp = 0; sp < m.spring_count; ++sp) {
-      const Mat3 b = a.spring[std::size_t(sp)].full();
-      az[std::size_t(m.spring_a[sp])] -= b * (*z)[std::size_t(m.spring_b[sp])];
-      az[std::size_t(m.spring_b[sp])] -= b * (*z)[std::size_t(m.spring_a[sp])];
-    }
-    Real worst = 0;
-    for (std::size_t i = 0; i < r.size(); ++i) worst = std::max(worst, (az[i] - r[i]).norm());
-    CHECK(worst < 1e-10);
-  }
+  for (const std::vector<Vec3>* z : {&nd, &md}) CHECK(block_laplacian_residual(m, a, *z, r) < 1e-10);
 }
