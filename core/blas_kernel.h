@@ -2,7 +2,7 @@
 // Which BLAS kernels the Cholesky factorisation runs on. Debian's OpenBLAS picks its kernels from the CPU's model
 // number, and a CPU newer than it knows gets its generic Prescott (SSE3) kernels: on an AVX-512 Xeon that made the
 // sewn dress's implicit phase half as slow again (docs/performance.md, "The BLAS kernels"). OpenBLAS reads its
-// choice once, when it is loaded, from OPENBLAS_CORETYPE; clothsim can only say which value to set.
+// choice once, when it is loaded, from OPENBLAS_CORETYPE, so the front end sets it and restarts (tools/main.cpp).
 #include <string>
 #include <string_view>
 

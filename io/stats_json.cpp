@@ -22,7 +22,9 @@ std::string format_stats(const Model& m, const SimOptions& o, const RunStats& s)
   j.field("force_evaluations", s.force_evaluations).field("threads", s.threads);
   if (o.integrator == Integrator::implicit) {
     j.field("preconditioner", std::string_view(preconditioner_name(o.solver.preconditioner)));
-    if (!s.blas_kernel.empty()) j.field("blas_kernel", std::string_view(s.blas_kernel));
+    if (!s.blas_kernel.empty())
+      j.field("blas_kernel", std::string_view(s.blas_kernel))
+          .field("blas_kernel_chosen_by", std::string_view(s.blas_kernel_chosen_by));
     if (s.cholesky_pieces > 0) j.field("cholesky_pieces", s.cholesky_pieces);
     j.field("cg_iterations", s.cg_iterations).field("implicit_failed_steps", s.implicit_failed_steps);
   }

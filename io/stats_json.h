@@ -31,6 +31,7 @@ struct RunStats {
   std::string scene;
   int threads = 0;
   std::string blas_kernel;  // OpenBLAS's kernels, when the Cholesky preconditioner runs (core/blas_kernel.h)
+  std::string blas_kernel_chosen_by;  // "OpenBLAS", "clothsim" (tools/main.cpp) or "OPENBLAS_CORETYPE" (the user)
   int cholesky_pieces = 0;  // the Cholesky factor's pieces (core/cholesky_factor.h), when it runs
   long long steps = 0;
   int frames_written = 0;

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <set>
 #include <string>
@@ -134,8 +135,13 @@ int cmd_run(int argc, char** argv) {
   stats.threads = threads;
   if (options.integrator == Integrator::implicit && options.solver.preconditioner == Preconditioner::cholesky) {
     stats.blas_kernel = blas_kernel_name();
+    const bool user_chose = std::getenv("OPENBLAS_CORETYPE") && !std::getenv("CLOTHSIM_CHOSE_OPENBLAS_CORETYPE");
+    stats.blas_kernel_chosen_by = !std::getenv("OPENBLAS_CORETYPE") ? "OpenBLAS"
+                                  : user_chose                      ? "OPENBLAS_CORETYPE"
+                                                                    : "clothsim";
+    // main() sets the better kernels where it can; they are still older when its restart failed.
     const std::string coretype = better_openblas_coretype(stats.blas_kernel, cpu_vector_units());
-    if (!coretype.empty())
+    if (!coretype.empty() && !user_chose)
       std::fprintf(stderr,
                    "clothsim: warning: OpenBLAS runs its %s kernels on this CPU, older than its vector units; "
                    "OPENBLAS_CORETYPE=%s makes the Cholesky factorisation faster (docs/performance.md, "

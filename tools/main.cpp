@@ -1,10 +1,14 @@
 // clothsim: the command-line front end. Errors from input are caught here, once, and become exit code 2.
+#include <unistd.h>
+
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <string>
 
+#include "core/blas_kernel.h"
 #include "core/error.h"
 #include "tools/cli_args.h"
 #include "tools/commands.h"
@@ -21,6 +25,26 @@ const char* usage =
     "  study NAME ...      studies: accuracy, stability (integrators), scaling (threads)\n"
     "Run 'clothsim <command> --help' for the options of a command.\n";
 
+// OpenBLAS picks its kernels once, when it is loaded, from the CPU's model number; on a CPU newer than it knows it
+// runs its generic Prescott (SSE3) kernels, and the Cholesky factorisation runs at about two thirds of its speed
+// (docs/performance.md, "The BLAS kernels"). Where the user set no OPENBLAS_CORETYPE, clothsim sets the one the
+// CPU's vector units allow and starts itself again, so that OpenBLAS loads with it. Returns when there is nothing
+// to change or the restart failed; the run then goes on with the kernels loaded, and says so.
+void restart_with_better_blas_kernels(char** argv) {
+  if (std::getenv("OPENBLAS_CORETYPE")) return;  // the user's choice, or this restart's own
+  // Valgrind's CPU has neither the model nor the units, and a restart would leave valgrind.
+  const char* preload = std::getenv("LD_PRELOAD");
+  if (preload && std::strstr(preload, "vgpreload")) return;
+  const std::string coretype =
+      clothsim::better_openblas_coretype(clothsim::blas_kernel_name(), clothsim::cpu_vector_units());
+  if (coretype.empty()) return;
+  setenv("OPENBLAS_CORETYPE", coretype.c_str(), 1);
+  setenv("CLOTHSIM_CHOSE_OPENBLAS_CORETYPE", "1", 1);
+  execv("/proc/self/exe", argv);
+  unsetenv("OPENBLAS_CORETYPE");
+  unsetenv("CLOTHSIM_CHOSE_OPENBLAS_CORETYPE");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -32,6 +56,7 @@ int main(int argc, char** argv) {
   // A file-size limit (ulimit -f) must surface as a failed write (EFBIG, exit code 2), not kill the process.
   std::signal(SIGXFSZ, SIG_IGN);
   const std::string command = argv[1];
+  if (command == "run" || command == "batch" || command == "study") restart_with_better_blas_kernels(argv);
   try {
     if (command == "run") return cmd_run(argc - 2, argv + 2);
     if (command == "validate") return cmd_validate(argc - 2, argv + 2);

@@ -18,9 +18,10 @@ struct CliResult {
   std::string output;  // stdout and stderr together
 };
 
-inline CliResult run_cli(const std::string& args) {
+// `env`: a prefix for the shell command, e.g. "env -u OPENBLAS_CORETYPE " (with its trailing space).
+inline CliResult run_cli(const std::string& args, const std::string& env = {}) {
   CliResult r;
-  const std::string cmd = std::string(CLOTHSIM_BIN) + " " + args + " 2>&1";
+  const std::string cmd = env + std::string(CLOTHSIM_BIN) + " " + args + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
   std::array<char, 4096> buf;
