@@ -215,6 +215,8 @@ BuiltScene build_model(const SceneDesc& scene, std::vector<MeshData>&& meshes) {
     if (cd.bending == Bending::dihedral) append_hinges(m, topo, base, rest, cd.bend_modulus);
     topo = Topology();
     info.spring_begin = m.spring_count;
+    while (info.bend_springs < springs.size() && springs.kind[springs.size() - 1 - info.bend_springs] == SpringKind::bend)
+      ++info.bend_springs;
     const std::size_t spring_total = std::size_t(m.spring_count) + springs.size();
     m.spring_a.reserve(spring_total);
     m.spring_b.reserve(spring_total);

@@ -35,6 +35,9 @@ struct ClothInfo {
   Index particle_begin = 0, particle_end = 0;
   Index tri_begin = 0, tri_end = 0;
   Index spring_begin = 0, spring_end = 0;
+  // A mesh cloth's bend springs come last: [spring_end - bend_springs, spring_end). A grid has none of that kind
+  // (its flex springs, interleaved, can never stretch more than the two structural springs they span).
+  Index bend_springs = 0;
   std::vector<Vec2> uvs;     // texture coordinates (uv_count)
   std::vector<Index> tri_uv; // uv index per corner, local to this cloth (3 * triangles), empty without UVs
   bool uv_per_vertex = false; // UV index = local vertex index (grids; OBJs whose vt follow v): tri_uv stays empty

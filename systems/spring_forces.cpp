@@ -108,16 +108,22 @@ void eval_springs(const Model& m, std::span<const Vec3> x, std::span<const Vec3>
 }
 
 Real max_spring_strain(const Model& m, std::span<const Vec3> x) {
-  return tbb::parallel_reduce(
-      tbb::blocked_range<Index>(0, m.spring_count, 4 * particle_grain), Real(0),
-      [&](const tbb::blocked_range<Index>& r, Real best) {
-        for (Index s = r.begin(); s != r.end(); ++s) {
-          const Real len = (x[m.spring_b[s]] - x[m.spring_a[s]]).norm();
-          best = std::max(best, (len - m.spring_rest[s]) / m.spring_rest[s]);
-        }
-        return best;
-      },
-      [](Real a, Real b) { return std::max(a, b); });
+  const auto over = [&](Index begin, Index end) {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<Index>(begin, end, 4 * particle_grain), Real(0),
+        [&](const tbb::blocked_range<Index>& r, Real best) {
+          for (Index s = r.begin(); s != r.end(); ++s) {
+            const Real len = (x[m.spring_b[s]] - x[m.spring_a[s]]).norm();
+            best = std::max(best, (len - m.spring_rest[s]) / m.spring_rest[s]);
+          }
+          return best;
+        },
+        [](Real a, Real b) { return std::max(a, b); });
+  };
+  if (m.cloths.empty()) return over(0, m.spring_count);
+  Real best = 0;
+  for (const ClothInfo& c : m.cloths) best = std::max(best, over(c.spring_begin, c.spring_end - c.bend_springs));
+  return best;
 }
 
 }  // namespace clothsim
