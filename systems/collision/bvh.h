@@ -12,20 +12,22 @@ void refit_bvh(const BvhTree& tree, const std::vector<Aabb>& prim_box, std::vect
 // Calls visit(slot) for every slot of the tree whose box overlaps q.
 template <class Visit>
 void query_bvh(const BvhTree& tree, const std::vector<Aabb>& node_box, const Aabb& q, Visit&& visit) {
-  if (tree.node_child.empty()) return;
+  if (tree.node_child.empty() || !boxes_overlap(q, node_box[0])) return;
+  // A child is tested before it is pushed, so the stack holds only nodes that meet q; the visits come in the
+  // same order as testing each node when popped.
   Index stack[96];
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {
     const Index n = stack[--top];
-    if (!boxes_overlap(q, node_box[n])) continue;
     const Index first = tree.node_child[2 * n];
     if (first < 0) {
       visit(~first);
-    } else {
-      stack[top++] = first;
-      stack[top++] = tree.node_child[2 * n + 1];
+      continue;
     }
+    const Index second = tree.node_child[2 * n + 1];
+    if (boxes_overlap(q, node_box[first])) stack[top++] = first;
+    if (boxes_overlap(q, node_box[second])) stack[top++] = second;
   }
 }
 
