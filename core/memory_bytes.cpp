@@ -46,8 +46,8 @@ std::size_t multigrid_bytes(const Multigrid& mg) {
 
 std::size_t workspace_bytes(const Workspace& ws) {
   return sum_bytes(ws.f, ws.stage_x, ws.stage_v, ws.normal, ws.stitch_rest, ws.stitch_pull, ws.dv, ws.cg_x, ws.cg_r,
-                   ws.cg_p, ws.cg_q, ws.cg_precond, ws.spring_block, ws.stitch_kx, ws.stitch_block, ws.hinge_force,
-                   ws.hinge_jac) +
+                   ws.cg_p, ws.cg_q, ws.cg_precond, ws.spring_block_f64, ws.spring_block_f32, ws.stitch_kx,
+                   ws.stitch_block, ws.hinge_force, ws.hinge_jac) +
          multigrid_bytes(ws.multigrid) + (ws.cholesky ? cholesky_bytes(*ws.cholesky) : 0);
 }
 

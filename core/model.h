@@ -169,6 +169,9 @@ struct State {
   std::vector<ContactHold> contact;
 };
 
+// The tightest CG tolerance solved with float spring blocks: 16 times their relative rounding, 2^-24.
+inline constexpr Real kFloatBlockTolerance = 1e-6;
+
 struct Workspace {
   // accumulated force, then acceleration (particle_count); the implicit step's multigrid cycle takes it as scratch
   // once the right-hand side has read it (systems/multigrid.h)
@@ -181,7 +184,11 @@ struct Workspace {
   std::vector<Vec3> dv;  // the step's velocity change, summed over Newton solves (0 with one solve: it is cg_x)
   std::vector<Vec3> cg_x, cg_r, cg_p, cg_q;  // CG solution, residual, search; A p, then the preconditioner's z = B r
   std::vector<Sym3> cg_precond;    // inverse of the system's diagonal 3x3 block, 0 for pinned (particle_count)
-  std::vector<Sym3> spring_block;  // h kd n n^T + h^2 dfa/dxb of each spring, symmetric (spring_count)
+  // h kd n n^T + h^2 dfa/dxb of each spring, symmetric (spring_count): in double with the Cholesky preconditioner
+  // or a cg_tolerance below kFloatBlockTolerance, in float otherwise (core/math.h); the other is empty
+  // (systems/implicit_system.h, with_spring_blocks).
+  std::vector<Sym3> spring_block_f64;
+  std::vector<Sym3f> spring_block_f32;
   std::vector<Sym3> stitch_kx, stitch_block;  // each stitch's -df/dg and h Kv + h^2 Kx (stitch_count)
   std::vector<Vec3> hinge_jac;  // each hinge's sqrt(2 k) d theta/dx at o1, o2, e0, e1 (4 * hinge_count; bend_forces.h)
   std::vector<Vec3> hinge_force;   // each hinge's forces on o1, o2, e0, e1, before the gather (4 * hinge_count)

@@ -201,7 +201,7 @@ Multigrid build_multigrid_levels(const Model& m, Index coarsest_nodes) {
     for (auto* v : {&level.source_offset, &level.source_index}) v->shrink_to_fit();
     build_members(level);
     for (auto* v : {&level.diag, &level.diag_inv}) v->assign(std::size_t(quads), Sym3{});
-    level.edge_block.assign(std::size_t(level.edge_count), Sym3{});
+    level.edge_block.assign(std::size_t(level.edge_count), Sym3f{});
     for (auto* v : {&level.b, &level.x, &level.t}) v->assign(std::size_t(quads), Vec3::Zero());
 
     // This level is the next one's finer level.

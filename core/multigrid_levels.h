@@ -40,7 +40,7 @@ struct MultigridLevel {
   std::vector<Index> ground_offset, ground_index;
 
   // Numeric blocks, recomputed each step (systems/multigrid.cpp).
-  std::vector<Sym3> edge_block;  // B of each edge (edge_count)
+  std::vector<Sym3f> edge_block;  // B of each edge, float as the springs' (edge_count)
   // The node's diagonal block, G + the sum of its edges' B (node_count). While the step's blocks are built it
   // holds G, the node's block outside its edges, which the next level's G sums: no array of its own for G.
   std::vector<Sym3> diag;

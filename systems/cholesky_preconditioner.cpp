@@ -26,7 +26,8 @@ void for_each_piece(CholeskyFactor& f, Job&& job) {
   }
 }
 
-// Piece k's matrix, its values set from the step's terms; ws.spring_block and the particle terms must be current.
+// Piece k's matrix, its values set from the step's terms; ws.spring_block_f64 (the Cholesky preconditioner keeps
+// the spring blocks in double: core/model.h) and the particle terms must be current.
 // Each entry gets its terms in the same order as a fill of the whole matrix would add them (diagonal, springs,
 // stitches, hinges, each in ascending order), so the values do not depend on how the pieces are shared out.
 void fill_piece(const Model& m, Real h, Workspace& ws, Index k) {
@@ -42,7 +43,7 @@ void fill_piece(const Model& m, Real h, Workspace& ws, Index k) {
     Sym3 block = Sym3::from(particle_system_block(m, i, 1 / m.particle_inv_mass[i], h, ws));
     for (Index j = m.particle_spring_offset[i]; j < m.particle_spring_offset[i + 1]; ++j) {
       const Index e = m.particle_spring_index[j];
-      block += ws.spring_block[e >= 0 ? e : ~e];
+      block += ws.spring_block_f64[e >= 0 ? e : ~e];
     }
     block += hold_block(ws, i, block);
     cholesky_add_diagonal(f, i, block);
@@ -50,7 +51,7 @@ void fill_piece(const Model& m, Real h, Workspace& ws, Index k) {
   for (const Index s : cholesky_piece_springs(f, k)) {
     const Index a = m.spring_a[s], b = m.spring_b[s];
     if (a != b && m.particle_inv_mass[a] > 0 && m.particle_inv_mass[b] > 0)
-      cholesky_add_coupling(f, s, ws.spring_block[s], a, b);
+      cholesky_add_coupling(f, s, ws.spring_block_f64[s], a, b);
   }
   // Stitches: c_u c_v (h Kv + h^2 Kx) between their particles u, v (systems/stitch_forces.h), the same terms
   // the CG's product applies; without them the factor of a sewn garment misses its seams and CG stalls. A slack

@@ -26,7 +26,7 @@ inline constexpr int cholesky_refactor_iterations = 8;
 inline constexpr int cholesky_renew_first = 16;
 inline constexpr int cholesky_renew_most = 256;
 
-// Refactors before a solve when due (no factor for this step size, or a renewal run); ws.spring_block and
+// Refactors before a solve when due (no factor for this step size, or a renewal run); ws.spring_block_f64 and
 // ws.cg_precond (the inverse diagonal blocks) must be current. Returns the number of numeric factorisations
 // done (0 or 1). A failed factorisation (the matrix not positive definite
 // in floating point) leaves no factor: the solve then falls back to block-Jacobi.

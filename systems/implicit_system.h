@@ -39,16 +39,23 @@ inline Vec3 apply_particle_block(const Model& m, Index i, Real mass, Real h, con
 // (no scatter); p must be zero on pinned particles, so their columns drop out. x are the positions the springs are
 // linearised about (the recompute layout). The layout is a template argument: callers choose it once, outside
 // their loops over particles and springs.
-template <ImplicitLayout Layout>
-inline Vec3 system_row(const Model& m, std::span<const Vec3> x, Real h, const Workspace& ws, std::span<const Vec3> p,
-                       Index i) {
+// The spring blocks kept this run (core/model.h): body(ws.spring_block_f64) or body(ws.spring_block_f32).
+template <class Body>
+inline void with_spring_blocks(const Workspace& ws, Body&& body) {
+  if (!ws.spring_block_f64.empty()) body(ws.spring_block_f64);
+  else body(ws.spring_block_f32);
+}
+
+template <ImplicitLayout Layout, class Blocks>
+inline Vec3 system_row(const Model& m, std::span<const Vec3> x, Real h, const Workspace& ws, const Blocks& blocks,
+                       std::span<const Vec3> p, Index i) {
   Vec3 sum = apply_particle_block(m, i, 1 / m.particle_inv_mass[i], h, ws, p[i]);
   for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
     const Index e = m.particle_spring_index[k];
     const Index s = e >= 0 ? e : ~e;
     const Index j = e >= 0 ? m.spring_b[s] : m.spring_a[s];
     if constexpr (Layout == ImplicitLayout::spring_blocks) {
-      sum += ws.spring_block[s] * (p[i] - p[j]);
+      sum += blocks[s] * (p[i] - p[j]);
     } else {
       const Index a = m.spring_a[s], b = m.spring_b[s];
       const SpringJacobian jac = spring_jacobian(x[a], x[b], m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]);
@@ -81,13 +88,15 @@ inline void apply_system(const Model& m, std::span<const Vec3> x, Real h, Implic
                          std::span<const Vec3> p, std::span<Vec3> q) {
   const bool extras = has_extra_terms(m);
   with_layout(layout, [&, extras](auto l) {
-    parallel_over(m.particle_count, particle_grain, [&, extras](Index i) {
-      if (!(m.particle_inv_mass[i] > 0)) {
-        q[i] = Vec3::Zero();
-        return;
-      }
-      const Vec3 row = system_row<l()>(m, x, h, ws, p, i);
-      q[i] = extras ? add_extra_row(m, h, ws, p, i, row) : row;
+    with_spring_blocks(ws, [&, extras](const auto& blocks) {
+      parallel_over(m.particle_count, particle_grain, [&, extras](Index i) {
+        if (!(m.particle_inv_mass[i] > 0)) {
+          q[i] = Vec3::Zero();
+          return;
+        }
+        const Vec3 row = system_row<l()>(m, x, h, ws, blocks, p, i);
+        q[i] = extras ? add_extra_row(m, h, ws, p, i, row) : row;
+      });
     });
   });
 }

@@ -20,10 +20,13 @@ using Sums2 = Eigen::Matrix<Real, 2, 1, Eigen::DontAlign>;
 
 // Each spring's block of A, read by every CG product.
 void build_spring_blocks(const Model& m, std::span<const Vec3> x, Real h, Workspace& ws) {
+  const bool f64 = !ws.spring_block_f64.empty();
   parallel_over(m.spring_count, 4 * particle_grain, [&](Index s) {
     const Index a = m.spring_a[s], b = m.spring_b[s];
-    ws.spring_block[s] = Sym3::from(spring_system_block(
-        spring_jacobian(x[a], x[b], m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]), h));
+    const Mat3 block =
+        spring_system_block(spring_jacobian(x[a], x[b], m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]), h);
+    if (f64) ws.spring_block_f64[s] = Sym3::from(block);
+    else ws.spring_block_f32[s] = Sym3f::from(block);
   });
 }
 
@@ -32,8 +35,9 @@ void build_spring_blocks(const Model& m, std::span<const Vec3> x, Real h, Worksp
 // (df/dx) v term recomputed from each incident spring (spring_dfdx_times; once a step, no per-spring buffer);
 // later Newton solves: b = h f(x_k, v_k) - M dv_k, the backward-Euler residual. ws.f holds accelerations: m a = f for free particles.
 // Pinned particles get zero everywhere: the filter S = 0 of Baraff & Witkin §5.3.
-void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Real h, bool first,
-                          Workspace& ws) {
+template <class Blocks>
+void build_particle_terms_with(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Real h, bool first,
+                               const Blocks& blocks, Workspace& ws) {
   parallel_over(m.particle_count, particle_grain, [&](Index i) {
     const Real inv_m = m.particle_inv_mass[i];
     if (!(inv_m > 0)) {
@@ -47,7 +51,7 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
     for (Index k = m.particle_spring_offset[i]; k < m.particle_spring_offset[i + 1]; ++k) {
       const Index e = m.particle_spring_index[k];
       const Index s = e >= 0 ? e : ~e;
-      block += ws.spring_block[s];
+      block += blocks[s];
       if (first) {
         const Index a = m.spring_a[s], b = m.spring_b[s], j = e >= 0 ? b : a;
         kv += spring_dfdx_times(x[a], x[b], m.spring_rest[s], m.spring_ke[s], v[j] - v[i]);
@@ -66,6 +70,11 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
     ws.cg_precond[i] = Sym3::from(block.full().inverse());  // symmetric up to round-off: its lower triangle
     ws.cg_r[i] = first ? Vec3(h * mass * ws.f[i] + (h * h) * kv) : Vec3(h * mass * ws.f[i] - mass * ws.dv[i]);
   });
+}
+
+void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<const Vec3> v, Real h, bool first,
+                          Workspace& ws) {
+  with_spring_blocks(ws, [&](const auto& blocks) { build_particle_terms_with(m, x, v, h, first, blocks, ws); });
 }
 
 // Preconditioned CG (Shewchuk 1994, B2) from y = 0, stopping at |r| <= tol |b|. The preconditioner z = B r is

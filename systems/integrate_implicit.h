@@ -37,7 +37,7 @@ StepResult integrate_implicit(const Model& model, const SolverOptions& opt, cons
                               Real h, ImplicitLayout layout = ImplicitLayout::spring_blocks);
 
 // One preconditioned CG solve of A y = b, b already in ws.cg_r, y left in ws.cg_x; x are the positions the
-// springs are linearised about (read by the recompute layout). Builds nothing: ws.spring_block, ws.cg_precond
+// springs are linearised about (read by the recompute layout). Builds nothing: the spring blocks, ws.cg_precond
 // and (multigrid) the levels' operators must be current. Exposed for the benchmark.
 CgResult solve_cg(const Model& model, const SolverOptions& opt, std::span<const Vec3> x, Workspace& ws, Real h,
                   ImplicitLayout layout, CgStart start = {});

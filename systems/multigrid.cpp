@@ -22,17 +22,18 @@ void for_nodes(Index n, Body&& body) {
 }
 
 // The finest level: the particles, their rows of the CG's own matrix (pinned rows zero), block-Jacobi inverses.
-template <ImplicitLayout Layout>
+template <ImplicitLayout Layout, class Blocks>
 struct FineLevel {
   const Model& m;
   std::span<const Vec3> x;
   Real h;
   const Workspace& ws;
+  const Blocks& blocks;
   Index size() const { return m.particle_count; }
   bool active(Index i) const { return m.particle_inv_mass[i] > 0; }
   bool extras = has_extra_terms(m);
   Vec3 row(std::span<const Vec3> p, Index i) const {
-    const Vec3 r = system_row<Layout>(m, x, h, ws, p, i);
+    const Vec3 r = system_row<Layout>(m, x, h, ws, blocks, p, i);
     return extras ? add_extra_row(m, h, ws, p, i, r) : r;
   }
   const Sym3& diag_inv(Index i) const { return ws.cg_precond[i]; }
@@ -110,8 +111,9 @@ struct Cycle {
   }
 };
 
-// Sum of blocks[index[k]] over k in [offset[n], offset[n + 1]).
-Sym3 sum_blocks(const std::vector<Index>& offset, const std::vector<Index>& index, const std::vector<Sym3>& blocks,
+// Sum of blocks[index[k]] over k in [offset[n], offset[n + 1]), in double.
+template <class Block>
+Sym3 sum_blocks(const std::vector<Index>& offset, const std::vector<Index>& index, const std::vector<Block>& blocks,
                 Index n) {
   Sym3 sum;
   for (Index k = offset[n]; k < offset[n + 1]; ++k) sum += blocks[index[k]];
@@ -138,7 +140,7 @@ void build_multigrid_operators(const Model& m, Real h, Workspace& ws) {
           if (m.stitch_count > 0) g += stitch_diagonal(m, ws, i).full();
         }
         L.diag[n] = Sym3::from(g);
-        L.diag[n] += sum_blocks(L.ground_offset, L.ground_index, ws.spring_block, n);
+        with_spring_blocks(ws, [&](const auto& b) { L.diag[n] += sum_blocks(L.ground_offset, L.ground_index, b, n); });
       } else {
         L.diag[n] = sum_blocks(L.member_offset, L.member_index, mg.levels[l - 1].diag, n);
       }
@@ -147,9 +149,13 @@ void build_multigrid_operators(const Model& m, Real h, Workspace& ws) {
   for (std::size_t l = 0; l < mg.levels.size(); ++l) {
     MultigridLevel& L = mg.levels[l];
     // The finer level's edge blocks: the springs' on the first level.
-    const std::vector<Sym3>& finer_edges = l == 0 ? ws.spring_block : mg.levels[l - 1].edge_block;
-    for_nodes(L.edge_count,
-              [&](Index e) { L.edge_block[e] = sum_blocks(L.source_offset, L.source_index, finer_edges, e); });
+    const auto sum_edges = [&](const auto& finer_edges) {
+      for_nodes(L.edge_count, [&](Index e) {
+        L.edge_block[e] = Sym3f::cast(sum_blocks(L.source_offset, L.source_index, finer_edges, e));
+      });
+    };
+    if (l == 0) with_spring_blocks(ws, sum_edges);
+    else sum_edges(mg.levels[l - 1].edge_block);
     for_nodes(L.node_count, [&](Index n) {
       Sym3 d = L.diag[n];
       for (Index k = L.row_offset[n]; k < L.row_offset[n + 1]; ++k) d += L.edge_block[L.row_edge[k]];
@@ -173,8 +179,10 @@ void build_multigrid_operators(const Model& m, Real h, Workspace& ws) {
 void apply_multigrid(const Model& m, std::span<const Vec3> x, Real h, ImplicitLayout layout, Workspace& ws,
                      std::span<const Vec3> r, std::span<Vec3> z) {
   with_layout(layout, [&](auto l) {
-    Cycle<FineLevel<l()>> cycle{{m, x, h, ws}, ws.multigrid};
-    cycle.run(0, r, z, ws.f, true);
+    with_spring_blocks(ws, [&](const auto& blocks) {
+      Cycle<FineLevel<l(), std::decay_t<decltype(blocks)>>> cycle{{m, x, h, ws, blocks}, ws.multigrid};
+      cycle.run(0, r, z, ws.f, true);
+    });
   });
 }
 

@@ -1,3 +1,4 @@
+#include <cmath>
 #include <doctest/doctest.h>
 
 #include <tbb/global_control.h>
@@ -115,9 +116,11 @@ TEST_CASE("each level's operator is P^T A P of the level above, formed densely")
     const Eigen::MatrixXd ours = level_matrix(L);
     MESSAGE("level of " << L.node_count << " nodes: |ours - P^T A P| = " << (ours - galerkin).norm() << " of "
                         << galerkin.norm());
-    CHECK((ours - galerkin).norm() <= 1e-13 * galerkin.norm());
+    // The springs' and each level's edge blocks are kept in float (core/math.h), each off by at most 2^-24 of
+    // itself, so a level is P^T A P to about that (2.1e-8 of its norm here); a wrong sum would be off by a block.
+    CHECK((ours - galerkin).norm() <= std::ldexp(1.0, -22) * galerkin.norm());
     for (Index n = 0; n < L.node_count; ++n)
-      CHECK((L.diag_inv[n].full() * galerkin.block<3, 3>(3 * n, 3 * n) - Mat3::Identity()).norm() < 1e-12);
+      CHECK((L.diag_inv[n].full() * L.diag[n].full() - Mat3::Identity()).norm() < 1e-12);
   }
   // The coarsest level is factored exactly.
   const MultigridLevel& last = sh.ws.multigrid.levels.back();

@@ -1,3 +1,4 @@
+#include <cmath>
 #include <doctest/doctest.h>
 
 #include <Eigen/Eigenvalues>
@@ -69,7 +70,7 @@ TEST_CASE("compressed spring: the transverse term is clamped so the block stays 
 }
 
 TEST_CASE("a spring's system block is exactly symmetric, so its six stored entries apply as the whole block") {
-  // The implicit step keeps each spring's block as a Sym3 (core/math.h); that is only the same matrix when the
+  // The implicit step keeps each spring's six entries (core/math.h); that is only the same matrix when the
   // block is symmetric to the last bit, which n n^T and I - n n^T are (n_i n_j = n_j n_i in floating point).
   const SpringJacobian j = spring_jacobian(Vec3(0.1, -0.2, 0.3), Vec3(1.3, 0.4, -0.7), 0.9, 250, 1.5);
   const Mat3 block = spring_system_block(j, 0.02);
@@ -79,6 +80,12 @@ TEST_CASE("a spring's system block is exactly symmetric, so its six stored entri
   const Vec3 p(0.7, -1.9, 2.3);
   CHECK((stored * p - block * p).norm() <= 1e-15 * (block * p).norm());
   CHECK((block * p).norm() > 0.05);  // a block that does something
+  // Kept in float (Sym3f, as the CG's products read it), each entry is within float's unit roundoff, 2^-24, of the
+  // double: the product errs by at most that times |B| |p| (Cauchy-Schwarz per row), and by more than 2^-40 here.
+  const Sym3f kept = Sym3f::from(block);
+  const double err = (kept * p - block * p).norm(), bound = std::ldexp(1.0, -24) * block.norm() * p.norm();
+  CHECK(err <= bound);
+  CHECK(err > std::ldexp(1.0, -40) * block.norm() * p.norm());
 }
 
 TEST_CASE("dfdx applied to a vector without the matrix equals the Jacobian's product, stretched and compressed") {
