@@ -39,9 +39,10 @@ inline Vec3 apply_particle_block(const Model& m, Index i, Real mass, Real h, con
 // (no scatter); p must be zero on pinned particles, so their columns drop out. x are the positions the springs are
 // linearised about (the recompute layout). The layout is a template argument: callers choose it once, outside
 // their loops over particles and springs.
-// The spring blocks kept this run (core/model.h): body(ws.spring_block_f64) or body(ws.spring_block_f32).
-template <class Body>
-inline void with_spring_blocks(const Workspace& ws, Body&& body) {
+// The spring blocks kept this run (core/model.h): body(ws.spring_block_f64) or body(ws.spring_block_f32), const
+// as ws is.
+template <class Ws, class Body>
+inline void with_spring_blocks(Ws& ws, Body&& body) {
   if (!ws.spring_block_f64.empty()) body(ws.spring_block_f64);
   else body(ws.spring_block_f32);
 }

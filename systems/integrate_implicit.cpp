@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "systems/bend_forces.h"
 #include "systems/cholesky_preconditioner.h"
@@ -20,13 +21,13 @@ using Sums2 = Eigen::Matrix<Real, 2, 1, Eigen::DontAlign>;
 
 // Each spring's block of A, read by every CG product.
 void build_spring_blocks(const Model& m, std::span<const Vec3> x, Real h, Workspace& ws) {
-  const bool f64 = !ws.spring_block_f64.empty();
-  parallel_over(m.spring_count, 4 * particle_grain, [&](Index s) {
-    const Index a = m.spring_a[s], b = m.spring_b[s];
-    const Mat3 block =
-        spring_system_block(spring_jacobian(x[a], x[b], m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]), h);
-    if (f64) ws.spring_block_f64[s] = Sym3::from(block);
-    else ws.spring_block_f32[s] = Sym3f::from(block);
+  with_spring_blocks(ws, [&](auto& blocks) {
+    using Block = typename std::decay_t<decltype(blocks)>::value_type;
+    parallel_over(m.spring_count, 4 * particle_grain, [&](Index s) {
+      const Index a = m.spring_a[s], b = m.spring_b[s];
+      blocks[s] = Block::from(
+          spring_system_block(spring_jacobian(x[a], x[b], m.spring_rest[s], m.spring_ke[s], m.spring_kd[s]), h));
+    });
   });
 }
 

@@ -1,5 +1,7 @@
 #include "systems/multigrid.h"
 
+#include <type_traits>
+
 #include "systems/parallel.h"
 
 namespace clothsim {

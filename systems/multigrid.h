@@ -24,8 +24,8 @@
 namespace clothsim {
 
 // The levels' numeric blocks for this step: each coarse level's G and B summed from the finer level's (the
-// springs' ws.spring_block_f32 and the particle blocks on the first), their diagonal inverses, the coarsest factor.
-// Needs ws.spring_block_f32 and (for the finest smoother) ws.cg_precond current.
+// springs' blocks, with_spring_blocks, and the particle blocks on the first), their diagonal inverses, the coarsest
+// factor. Needs the spring blocks and (for the finest smoother) ws.cg_precond current.
 void build_multigrid_operators(const Model& model, Real h, Workspace& ws);
 
 // z = B r, one cycle from zero; r and z are particle vectors (zero on pinned particles). Uses ws.f as scratch: the
