@@ -78,6 +78,15 @@ void build_particle_terms(const Model& m, std::span<const Vec3> x, std::span<con
   with_spring_blocks(ws, [&](const auto& blocks) { build_particle_terms_with(m, x, v, h, first, blocks, ws); });
 }
 
+// Whether a probe's squared relative residual rel2 after k iterations, reduced at the same rate up to the cap,
+// would come within cholesky_probe_margin times the tolerance. Judged from the second iteration on: the first
+// says little about the rate.
+bool probe_on_pace(Real rel2, int k, const SolverOptions& opt) {
+  if (k < 2) return true;
+  const Real goal = cholesky_probe_margin * opt.cg_tolerance;
+  return (Real(opt.cg_max_iterations) / Real(k)) * std::log(rel2) <= 2 * std::log(goal);
+}
+
 // Preconditioned CG (Shewchuk 1994, B2) from y = 0, stopping at |r| <= tol |b|. The preconditioner z = B r is
 // block-Jacobi, applied per particle where needed (z is not stored), or the multigrid cycle or the Cholesky
 // solve into ws.cg_q: q = A p is spent once r is updated, and z once it has made the next p, before the next
@@ -132,6 +141,7 @@ CgResult run_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3> 
     rr = next[0];
     ++res.iterations;
     if (!(rr > stop)) break;  // converged: the next direction (and its cycle) would go unused
+    if (from.probe && !probe_on_pace(rr / bb, res.iterations, opt)) break;
     Real rz_next = next[1];
     if constexpr (cycle) {
       precondition(r, z);
@@ -158,7 +168,8 @@ CgResult solve_cg(const Model& m, const SolverOptions& opt, std::span<const Vec3
       const bool reused = ws.cholesky_solves > 0 && ws.cholesky_h == h;
       SolverOptions probe = opt;
       if (reused) probe.cg_max_iterations = std::min(opt.cg_max_iterations, cholesky_refactor_iterations);
-      CgResult res = run_cg<Preconditioner::cholesky>(m, probe, x, ws, h, layout, from);
+      CgResult res = run_cg<Preconditioner::cholesky>(m, probe, x, ws, h, layout,
+                                                      {from.filtered, from.reference, reused});
       if (reused && !(res.residual <= opt.cg_tolerance)) {
         const int spent = res.iterations;
         const int renewed = renew_stale_cholesky(m, h, ws);

@@ -22,10 +22,12 @@ struct CgResult {
 // How a solve starts: filtered projects the held particles' normals out of every vector (systems/contact_filter.h);
 // a reference |b| > 0 resumes a solve that was cut short (a restart with a fresh preconditioner): CG continues from
 // the solution in ws.cg_x, whose residual ws.cg_r holds, and measures that residual against the original |b|
-// instead of starting from zero.
+// instead of starting from zero. A probe is a solve with a kept Cholesky factor (systems/cholesky_preconditioner.h):
+// it stops early once its pace shows that it will not finish by its cap.
 struct CgStart {
   bool filtered = false;
   Real reference = 0;
+  bool probe = false;
 };
 
 // Advances in by h into out; opt.newton_iterations linear solves (the first is Baraff & Witkin's, later ones are

@@ -138,3 +138,35 @@ TEST_CASE("a Cholesky factor stale at its first reuse is renewed before each sol
   CHECK(ws.cholesky_renew_left == 0);
   CHECK(solves(3, true) == 0);
 }
+
+TEST_CASE("a kept Cholesky factor whose CG falls behind the pace to its cap is dropped before the cap") {
+  // A stiff sheet spun at 60 rad/s without gravity: each 1/120 s step turns every spring by half a radian, so the
+  // factor of one step is a poor preconditioner two steps later.
+  GridSpec g;
+  g.nx = g.ny = 16;
+  g.stiffness = 1e7;
+  g.damping = 0.1;
+  g.gravity = Vec3::Zero();
+  g.integrator = Integrator::implicit;
+  BuiltScene s = grid_sheet(g);
+  for (std::size_t i = 0; i < s.state.x.size(); ++i) s.state.v[i] = Vec3(0, 0, 60).cross(s.state.x[i]);
+  s.options.solver.preconditioner = Preconditioner::cholesky;
+  s.options.solver.cg_tolerance = 1e-3;
+  Workspace ws = make_workspace(s.model, s.options);
+  State out = s.state;
+  SolveRecord r;
+  int factorizations = 0;
+  for (int step = 0; step < 4; ++step) {
+    r = implicit_step(s, s.state, out, ws, 1.0 / 120);
+    factorizations += r.factorizations;
+    CHECK(r.converged);
+    std::swap(s.state, out);
+  }
+  // Steps 1 and 2 reuse the first factor; step 3's probe of it falls behind its pace and is restarted with a
+  // fresh factor before its cap of 8 iterations (without the pace rule: 8 + 1).
+  CHECK(factorizations == 2);
+  CHECK(r.factorizations == 1);
+  CHECK(r.cg_iterations < cholesky_refactor_iterations);
+  CHECK(r.cg_iterations >= 3);  // at least the 2 the pace is judged on, and one with the fresh factor
+  MESSAGE("step 3: " << r.cg_iterations << " CG iterations");
+}
