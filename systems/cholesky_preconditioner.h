@@ -9,12 +9,11 @@
 // a few iterations. It is refactored numerically when the step size changes, and a solve with a kept factor
 // that has not converged after cholesky_refactor_iterations, or falls behind the pace to converge by then, is
 // restarted with a fresh one (the restart's iterations count too), so a stale factor costs a few iterations,
-// never a failed solve. A very stiff cloth's
-// factor can go stale within one step (on the knife-pleat dress at 1/120 s a one-step-old factor needs 35 to 90
-// iterations, a fresh one 1): when a factor fails its first reuse, it is renewed before each of the next
-// cholesky_renew_first solves, a run that doubles each time that recurs (up to cholesky_renew_most) and ends
-// once a factor serves a reuse. The rule reads iteration counts only, never clocks, so the same scene makes the
-// same choices at any thread count.
+// never a failed solve. A very stiff cloth's factor can go stale within one step (on the knife-pleat dress at
+// 1/120 s a one-step-old factor needs 35 to 90 iterations, a fresh one 1): when a factor fails its first reuse,
+// it is renewed before each of the next cholesky_renew_first solves, a run that doubles each time that recurs
+// (up to cholesky_renew_most) and ends once a factor serves a reuse. The rules read iteration counts and
+// residuals only, never clocks, so the same scene makes the same choices at any thread count.
 #include <span>
 
 #include "core/model.h"

@@ -141,7 +141,7 @@ TEST_CASE("a Cholesky factor stale at its first reuse is renewed before each sol
 
 TEST_CASE("a kept Cholesky factor whose CG falls behind the pace to its cap is dropped before the cap") {
   // A stiff sheet spun at 60 rad/s without gravity: each 1/120 s step turns every spring by half a radian, so the
-  // factor of one step is a poor preconditioner two steps later.
+  // first step's factor, which still serves steps 1 and 2, is a poor preconditioner by step 3.
   GridSpec g;
   g.nx = g.ny = 16;
   g.stiffness = 1e7;
