@@ -5,13 +5,14 @@ process on one machine.
 
   blender -b --factory-startup --python-exit-code 1 --python bench/peer_chart.py -- CLOTHSIM_BIN SCRATCH OUT \
       [--seconds 0.5] [--qualities 1,2,...,10] [--steps 24,48,72,96,120,240,480] \
-      [--stiffnesses matched,200000,1000000] [--limited 10000/0.095,10000/0.005] [--limited-steps 24,48] \
-      [--symplectic matched] [--repeats 3] [--blender-repeats 1] \
-      [--blender-air-damping X] [--threads 2] [--tension 15] [--side 128] [--match 1.25]
+      [--stiffnesses matched,200000,1000000,2000000] [--limited 10000/0.095,10000/0.005] [--limited-steps 24,48] \
+      [--symplectic matched] [--cg-tolerances 1e-3,1e-2,3e-2] [--repeats 3] [--blender-repeats 1] \
+      [--blender-air-damping X] [--threads 2] [--tension 15] [--side 128] [--match 1.25] [--rows OLD.csv]
 
 bench/peer_chart.sh wraps it and exits 77 (skipped) where blender is not installed. Writes to OUT:
 peer_chart.csv (one row per run), peer_chart_matches.csv (for each Blender quality, the fastest clothsim run
-whose strain is within --match x Blender's), peer_chart.gnuplot and peer_chart.png (svg where gnuplot has no
+whose strain is within --match x Blender's: clothsim_* among all runs, strict_* among those solved to the first
+CG tolerance), peer_chart.gnuplot and peer_chart.png (svg where gnuplot has no
 png terminal). docs/accuracy.md ("Against a peer") reads the committed run.
 
 Strain is measured the same way on both peers: the grid's structural edges against their rest lengths, from the
@@ -50,7 +51,7 @@ ap.add_argument("--qualities", default="1,2,3,4,5,6,7,8,9,10", help="Blender's q
 ap.add_argument("--tension", type=float, default=15.0, help="Blender tension/compression/shear (its default 15)")
 ap.add_argument("--steps", default="24,48,72,96,120,240,480",
                 help="clothsim implicit steps, as 1/N s; each N a multiple of --fps, as a step must divide a frame")
-ap.add_argument("--stiffnesses", default="matched,200000,1000000",
+ap.add_argument("--stiffnesses", default="matched,200000,1000000,2000000",
                 help="clothsim stiffnesses, N/m a spring; matched = tension * (side - 1)")
 ap.add_argument("--limited", default="10000/0.095,10000/0.005",
                 help="clothsim implicit runs with a Provot strain limit, STIFFNESS/MAXSTRAIN each: the 'stiff "
@@ -59,12 +60,16 @@ ap.add_argument("--limited-steps", default="24,48", help="steps, as 1/N s, of th
 ap.add_argument("--symplectic", default="matched",
                 help="stiffnesses to run symplectic Euler at its largest stable step (as `clothsim validate` "
                      "estimates it, rounded up to divide a frame); empty for none")
-ap.add_argument("--cg-tolerance", type=float, default=1e-3, help="clothsim implicit: relative CG residual")
+ap.add_argument("--cg-tolerances", default="1e-3,1e-2,3e-2",
+                help="clothsim implicit: relative CG residuals, comma-separated; the unlimited ladder runs at each, the "
+                     "limited and symplectic runs at the first. A looser solve damps the fall: see the sag_m column")
 ap.add_argument("--repeats", type=int, default=3, help="clothsim runs of each point; medians are kept")
 ap.add_argument("--blender-repeats", type=int, default=1, help="bakes of each quality; medians are kept")
 ap.add_argument("--blender-air-damping", type=float, default=None,
                 help="Blender's air_damping (its default 1: a drag per vertex, not per kg, so on this light sheet it "
                      "slows the fall; the sag_m column shows how far each sheet fell)")
+ap.add_argument("--rows", default="", help="an earlier run's peer_chart.csv: redo the matches and the chart "
+                                             "from its rows instead of running anything")
 ap.add_argument("--threads", type=int, default=2, help="threads for both")
 ap.add_argument("--match", type=float, default=1.25, help="a clothsim strain within this factor of Blender's "
                                                           "counts as matched")
@@ -78,6 +83,7 @@ frames = round(args.seconds * fps)
 os.makedirs(args.scratch, exist_ok=True)
 os.makedirs(args.out, exist_ok=True)
 EDGES = grid_edges(side)
+TOLERANCES = [float(t) for t in args.cg_tolerances.split(",")]
 BLENDER_SETTINGS = None if args.blender_air_damping is None else {"air_damping": args.blender_air_damping}
 
 
@@ -131,16 +137,17 @@ def clothsim_measure(pattern):
     return worst, float(np.mean(first[:, 1] - last[:, 1]))
 
 
-def clothsim_row(integrator, stiffness_word, step, limit=0.0):
+def clothsim_row(integrator, stiffness_word, step, limit=0.0, tolerance=None):
     stiffness = stiffness_of(stiffness_word)
-    name = f"{integrator}_{stiffness:g}_{step:.6g}" + (f"_limit{limit:g}" if limit else "")
+    tolerance = TOLERANCES[0] if tolerance is None else tolerance
+    name = f"{integrator}_{stiffness:g}_{step:.6g}_tol{tolerance:g}" + (f"_limit{limit:g}" if limit else "")
     out = os.path.join(args.scratch, name)
     xml = os.path.join(args.scratch, name + ".xml")
     stats = os.path.join(args.scratch, name + "_stats.json")
     loads, runs = [], []
     for _ in range(args.repeats):
         shutil.rmtree(out, ignore_errors=True)  # no frame of an earlier run may be measured as this one's
-        pattern = write_clothsim_scene(xml, out, side, fps, frames, integrator, step, stiffness, args.cg_tolerance,
+        pattern = write_clothsim_scene(xml, out, side, fps, frames, integrator, step, stiffness, tolerance,
                                        limit, preconditioner="multigrid" if integrator == "implicit" else "")
         loads.append(load1())
         rc, wall, cpu, st, err = run_clothsim_status(args.clothsim, xml, args.threads, stats)
@@ -157,7 +164,8 @@ def clothsim_row(integrator, stiffness_word, step, limit=0.0):
         status = "ok"
     if r["err"].strip():
         print(f"{name}: {r['err'].strip()}", file=sys.stderr)
-    label = "symplectic Euler" if integrator == "symplectic" else "implicit" + (f", maxStrain {limit:g}" if limit else "")
+    label = "symplectic Euler" if integrator == "symplectic" else (
+        "implicit" + (f", maxStrain {limit:g}" if limit else "") + (f", cgTolerance {tolerance:g}" if tolerance != TOLERANCES[0] else ""))
     return dict(peer="clothsim", method=label, stiffness=f"{stiffness:g}", step_s=r["st"]["dt"], quality="",
                 steps=r["st"]["steps"], repeats=len(runs), wall_s=statistics.median(x["wall"] for x in runs),
                 cpu_s=statistics.median(x["cpu"] for x in runs), max_strain=statistics.median(x["strain"] for x in runs),
@@ -167,7 +175,7 @@ def clothsim_row(integrator, stiffness_word, step, limit=0.0):
 
 def fraction(step):
     n = 1.0 / step
-    return f"1/{n:.0f}" if abs(n - round(n)) < 1e-6 and n < 1000 else f"{step:.2g}"
+    return f"1/{n:.0f}" if abs(n - round(n)) < 1e-4 * n and n < 1000 else f"{step:.2g}"  # a CSV's 6 digits
 
 
 def chart_x(row):
@@ -184,7 +192,8 @@ def write_chart(rows):
     colours = ["#1b9e77", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d", "#666666"]
     good = [r for r in rows if r["peer"] == "clothsim" and r["status"] == "ok"]
     for i, (method, k) in enumerate(dict.fromkeys((r["method"], r["stiffness"]) for r in good)):
-        style = "p pt 9 ps 1.6" if method.startswith("symplectic") else "lp pt 5 ps 1.2"
+        style = ("p pt 9 ps 1.6" if method.startswith("symplectic") else
+                 "lp pt 13 ps 1.1 dt 2" if "cgTolerance" in method else "lp pt 5 ps 1.2")
         series.append((f"clothsim {method}, {k} N/m", f"{style} lc rgb '{colours[i % len(colours)]}'",
                        [r for r in good if (r["method"], r["stiffness"]) == (method, k)]))
     series.append(("clothsim failed (exit 3, or steps failing their check)", "p pt 2 ps 2 lw 2 lc rgb 'red'",
@@ -202,7 +211,7 @@ def write_chart(rows):
     terminals = subprocess.run(["gnuplot", "-e", "set terminal"], capture_output=True, text=True)
     have_png = "pngcairo" in terminals.stdout + terminals.stderr
     image = "peer_chart.png" if have_png else "peer_chart.svg"
-    terminal = "pngcairo size 1400,620 font ',10'" if have_png else "svg size 1400,620"
+    terminal = "pngcairo size 1400,820 font ',10'" if have_png else "svg size 1400,820"
     script = os.path.join(args.out, "peer_chart.gnuplot")
 
     def panel(column, what):
@@ -219,7 +228,7 @@ set output '{os.path.join(args.out, image)}'
 set multiplot layout 1,2 title "Peer sheet {side}x{side}, 1 m, 1 kg, two corners pinned: time against largest structural strain"
 set logscale xy
 set grid
-set key top right font ',8'
+set key outside below font ',8' maxcols 3 maxrows 6
 set xlabel 'largest structural strain over the frames'
 {panel(2, 'wall time')}
 {panel(3, 'CPU time')}
@@ -230,20 +239,40 @@ unset multiplot
 
 
 def matches(rows):
-    """For each Blender quality: the fastest good clothsim run (by wall time) within args.match x its strain."""
+    """For each Blender quality: the fastest good clothsim run (by wall time) within args.match x its strain, among
+    all runs and among those solved to the first (strictest) CG tolerance, whose fall is the least damped."""
     good = [r for r in rows if r["peer"] == "clothsim" and r["status"] == "ok"]
+    strict = [r for r in good if "cgTolerance" not in r["method"]]
     out = []
     if not good:
         return out
+
+    def fastest(runs, b, prefix):
+        within = [r for r in runs if r["max_strain"] <= args.match * b["max_strain"]]
+        best = min(within, key=lambda r: r["wall_s"]) if within else min(runs, key=lambda r: r["max_strain"])
+        return {f"{prefix}matched": "yes" if within else "no (the least-strained run shown)",
+                f"{prefix}run": f"{best['method']} {best['stiffness']} N/m at {fraction(best['step_s'])} s",
+                f"{prefix}strain": best["max_strain"], f"{prefix}wall_s": best["wall_s"], f"{prefix}sag_m": best["sag_m"],
+                f"{prefix}wall_ratio": b["wall_s"] / best["wall_s"], f"{prefix}cpu_ratio": b["cpu_s"] / best["cpu_s"]}
+
     for b in (r for r in rows if r["peer"] == "blender" and r["status"] == "ok"):
-        within = [r for r in good if r["max_strain"] <= args.match * b["max_strain"]]
-        best = min(within, key=lambda r: r["wall_s"]) if within else min(good, key=lambda r: r["max_strain"])
-        out.append(dict(quality=b["quality"], blender_strain=b["max_strain"], blender_wall_s=b["wall_s"],
-                        blender_cpu_s=b["cpu_s"], matched="yes" if within else "no (the least-strained run shown)",
-                        clothsim_run=f"{best['method']} {best['stiffness']} N/m at {fraction(best['step_s'])} s",
-                        clothsim_strain=best["max_strain"], clothsim_wall_s=best["wall_s"],
-                        wall_ratio=b["wall_s"] / best["wall_s"], cpu_ratio=b["cpu_s"] / best["cpu_s"]))
+        row = dict(quality=b["quality"], blender_strain=b["max_strain"], blender_wall_s=b["wall_s"],
+                   blender_cpu_s=b["cpu_s"], blender_sag_m=b["sag_m"])
+        row.update(fastest(good, b, "clothsim_"))
+        if strict:
+            row.update(fastest(strict, b, "strict_"))
+        out.append(row)
     return out
+
+
+def read_rows(path):
+    """The rows of an earlier run's peer_chart.csv, numbers as numbers (--rows)."""
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    for r in rows:
+        for k in ("step_s", "wall_s", "cpu_s", "max_strain", "sag_m"):
+            r[k] = float(r[k])
+    return rows
 
 
 def write_csv(path, rows, floats):
@@ -257,26 +286,30 @@ def write_csv(path, rows, floats):
 
 print(f"peer chart: {side} x {side} sheet, {frames / fps:g} s simulated, {args.threads} threads; load "
       f"{os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f} at the start", flush=True)
-rows = []
-for word in args.stiffnesses.split(","):
-    for n in args.steps.split(","):
-        rows.append(clothsim_row("implicit", word, 1.0 / float(n)))
-        print(rows[-1], flush=True)
-for pair in filter(None, args.limited.split(",")):
+rows = read_rows(args.rows) if args.rows else []
+for tolerance in TOLERANCES if not args.rows else []:
+    for word in args.stiffnesses.split(","):
+        for n in args.steps.split(","):
+            rows.append(clothsim_row("implicit", word, 1.0 / float(n), tolerance=tolerance))
+            print(rows[-1], flush=True)
+for pair in filter(None, args.limited.split(",") if not args.rows else []):
     word, limit = pair.split("/")
     for n in args.limited_steps.split(","):
         rows.append(clothsim_row("implicit", word, 1.0 / float(n), float(limit)))
         print(rows[-1], flush=True)
-for word in filter(None, args.symplectic.split(",")):
+for word in filter(None, args.symplectic.split(",") if not args.rows else []):
     limit = symplectic_step(stiffness_of(word))
     rows.append(clothsim_row("symplectic", word, 1.0 / (fps * int(np.ceil(1.0 / (fps * limit))))))
     print(rows[-1], flush=True)
-for q in map(int, args.qualities.split(",")):
+for q in map(int, args.qualities.split(",") if not args.rows else []):
     rows.append(blender_row(q))
     print(rows[-1], flush=True)
 floats = {"step_s", "wall_s", "cpu_s", "max_strain", "sag_m", "load1", "blender_strain", "blender_wall_s",
+          "blender_sag_m", "clothsim_sag_m", "strict_strain", "strict_wall_s", "strict_sag_m", "strict_wall_ratio",
+          "strict_cpu_ratio", "clothsim_strain", "clothsim_wall_s", "clothsim_wall_ratio", "clothsim_cpu_ratio",
           "blender_cpu_s", "clothsim_strain", "clothsim_wall_s", "wall_ratio", "cpu_ratio"}
-write_csv(os.path.join(args.out, "peer_chart.csv"), rows, floats)
+if not args.rows:
+    write_csv(os.path.join(args.out, "peer_chart.csv"), rows, floats)
 m = matches(rows)
 if m:
     write_csv(os.path.join(args.out, "peer_chart_matches.csv"), m, floats)
