@@ -169,6 +169,13 @@ struct State {
   std::vector<ContactHold> contact;
 };
 
+// The Cholesky preconditioner's run of every-solve refactorisations (systems/cholesky_preconditioner.h). Unlike the
+// factor, which every frame drops, it carries across frames, so a checkpoint holds it (io/checkpoint.h).
+struct CholeskyRenewal {
+  int run = 0;   // length of the current run (0: none)
+  int left = 0;  // refactorisations left in it
+};
+
 // The tightest CG tolerance solved with float spring blocks: 16 times their relative rounding, 2^-24.
 inline constexpr Real kFloatBlockTolerance = 1e-6;
 
@@ -198,8 +205,7 @@ struct Workspace {
   CholeskyFactorPtr cholesky;
   Real cholesky_h = 0;              // the step the factor was built for; 0 = no valid factor
   int cholesky_solves = 0;           // solves preconditioned by the current factor
-  int cholesky_renew_run = 0;        // length of the current run of every-solve refactorisations (0: none)
-  int cholesky_renew_left = 0;       // refactorisations left in it
+  CholeskyRenewal cholesky_renewal;  // carried from frame to frame; the factor is not (cholesky_preconditioner.h)
   CollisionScratch collision;      // sized only when model.collision.enabled
 };
 

@@ -16,12 +16,13 @@ namespace {
 
 // Layout (native little-endian, 8-byte fields):
 //   "CLOTHCKP" | u32 version | u32 first output frame | u64 fingerprint | i64 frame | i64 step | f64 time | u64 n
-//   | u64 c (0 or n) | f64 x[3n] | f64 v[3n] | f64 contact[7c] (normal, collider velocity, friction)
+//   | u64 c (0 or n) | i32 Cholesky renewal run | i32 refactorisations left in it | f64 x[3n] | f64 v[3n]
+//   | f64 contact[7c] (normal, collider velocity, friction)
 //   | u64 hash64 of every byte before it
 static_assert(std::endian::native == std::endian::little, "checkpoints are stored little-endian");
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be three packed doubles");
 constexpr char magic[8] = {'C', 'L', 'O', 'T', 'H', 'C', 'K', 'P'};
-constexpr std::size_t header_bytes = 8 + 4 + 4 + 8 * 6;
+constexpr std::size_t header_bytes = 8 + 4 + 4 + 8 * 6 + 4 + 4;
 static_assert(sizeof(ContactHold) == 7 * sizeof(double), "a contact is written as 7 doubles");
 
 template <class T>
@@ -94,6 +95,8 @@ std::string encode_checkpoint(const Checkpoint& c) {
   put(out, double{c.state.time});
   put(out, n);
   put(out, contacts);
+  put(out, std::int32_t(c.cholesky_renewal.run));
+  put(out, std::int32_t(c.cholesky_renewal.left));
   out.append(reinterpret_cast<const char*>(c.state.x.data()), n * sizeof(Vec3));
   out.append(reinterpret_cast<const char*>(c.state.v.data()), n * sizeof(Vec3));
   if (contacts > 0) out.append(reinterpret_cast<const char*>(c.state.contact.data()), contacts * sizeof(ContactHold));
@@ -117,6 +120,8 @@ Checkpoint decode_checkpoint(const std::string& path, std::string_view bytes) {
   c.state.time = get<double>(bytes, pos);
   const auto n = get<std::uint64_t>(bytes, pos);
   const auto contacts = get<std::uint64_t>(bytes, pos);
+  c.cholesky_renewal.run = get<std::int32_t>(bytes, pos);
+  c.cholesky_renewal.left = get<std::int32_t>(bytes, pos);
   // Size is checked before anything is allocated, so a hostile count cannot exhaust memory.
   const std::uint64_t payload = bytes.size() - header_bytes - 8;
   if (n > payload / (2 * sizeof(Vec3)) || (contacts != 0 && contacts != n) ||
@@ -128,6 +133,8 @@ Checkpoint decode_checkpoint(const std::string& path, std::string_view bytes) {
   if (get<std::uint64_t>(bytes, tail) != hash64(bytes.substr(0, end)))
     throw Error(path, "checkpoint checksum mismatch (the file is corrupted); expected an intact checkpoint");
   if (frame < 0 || frame > 1000000) throw Error(path, "checkpoint frame out of range");
+  if (c.cholesky_renewal.left < 0 || c.cholesky_renewal.left > c.cholesky_renewal.run)
+    throw Error(path, "checkpoint's Cholesky renewal counts out of range; expected 0 <= left <= run");
   c.frame = static_cast<int>(frame);
   if (first_output > std::uint32_t(frame)) throw Error(path, "checkpoint's first written frame is after its frame");
   c.first_output = static_cast<int>(first_output);

@@ -1,8 +1,9 @@
 #pragma once
 // Checkpoints of a run: the whole State (positions, velocities, time, step counter, and the collider contact normals
-// the implicit solve holds) after a frame, so a killed run resumes and recomputes the later frames bit for bit. The
-// random forces are counter-based on the step index (systems/random_force.h), so the step counter is their whole
-// state; nothing else carries over between frames. A checkpoint is written atomically and carries a format version, a fingerprint of the scene it came
+// the implicit solve holds) after a frame, and the Cholesky preconditioner's renewal run, so a killed run resumes
+// and recomputes the later frames bit for bit. The random forces are counter-based on the step index
+// (systems/random_force.h), so the step counter is their whole state; the Cholesky factor is dropped at every
+// frame's start (sim/simulation.cpp), and nothing else carries over between frames. A checkpoint is written atomically and carries a format version, a fingerprint of the scene it came
 // from and a 64-bit checksum over everything before it, so a truncated or corrupted file is recognised.
 #include <cstdint>
 #include <optional>
@@ -17,13 +18,14 @@
 
 namespace clothsim::io {
 
-inline constexpr std::uint32_t checkpoint_version = 3;
+inline constexpr std::uint32_t checkpoint_version = 4;
 
 struct Checkpoint {
   std::uint64_t fingerprint = 0;  // of the scene (see scene_fingerprint): a checkpoint of another scene is refused
   int frame = 0;                  // last frame whose output was written before this checkpoint
   int first_output = 0;           // first frame the run wrote: the checkpoint vouches for frames first_output..frame
   State state;
+  CholeskyRenewal cholesky_renewal;  // the workspace's, after the frame
 };
 
 // FNV-1a, 64-bit: catches truncation and any flipped byte with probability 1 - 2^-64; not cryptographic.

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "sim/step_advice.h"
+#include "systems/cholesky_preconditioner.h"
 #include "systems/auto_step.h"
 #include "systems/strain_limit.h"
 #include "systems/diagnostics.h"
@@ -25,8 +26,9 @@ Simulation::Simulation(BuiltScene built, ColliderTrack track)
       next_frame_(options_.start_frame),
       last_strain_(max_spring_strain(model_, state_.x)) {}
 
-void Simulation::resume(State state, int frame) {
+void Simulation::resume(State state, int frame, const CholeskyRenewal& renewal) {
   state_ = std::move(state);
+  ws_.cholesky_renewal = renewal;
   scratch_ = state_;
   next_frame_ = frame + 1;
   last_strain_ = max_spring_strain(model_, state_.x);
@@ -82,6 +84,9 @@ FrameReport Simulation::advance_frame() {
   bool stepped = true;
   if (r.frame > options_.start_frame) {
     track_.prepare(model_, r.frame, ws_.collision);
+    // What the solver keeps from step to step stops at a frame's end: a run resumed from a checkpoint (which
+    // holds the state alone) then takes the same steps as the whole run.
+    forget_cholesky_factor(ws_);
     stepped = stepper_.advance_frame(model_, options_, state_, scratch_, ws_, r.steps);
     totals_.add(r.steps.counts);
   }

@@ -60,9 +60,10 @@ class Simulation {
   // What every step of the run did, summed (force evaluations, CG iterations, contacts, stage times).
   const StepCounts& totals() const { return totals_; }
 
-  // Continues from `state`, the state at `frame` (a checkpoint): the next frame computed is frame + 1. The
-  // guard keeps measuring from the scene's initial state, so a resumed run is judged like a whole one.
-  void resume(State state, int frame);
+  // Continues from `state`, the state at `frame` (a checkpoint), with the Cholesky renewal run then: the next frame
+  // computed is frame + 1. The guard keeps measuring from the scene's initial state, so a resumed run is judged
+  // like a whole one.
+  void resume(State state, int frame, const CholeskyRenewal& renewal);
 
   // Computes next_frame(): at the start frame the initial state itself, after it one frame of steps. When the
   // report says diverged, the state is the last one reached and nothing further should be asked of it.

@@ -96,8 +96,8 @@ void factor_now(const Model& m, Real h, Workspace& ws) {
 }  // namespace
 
 int refresh_cholesky(const Model& m, Real h, Workspace& ws) {
-  if (ws.cholesky_h == h && ws.cholesky_renew_left == 0) return 0;
-  if (ws.cholesky_renew_left > 0) --ws.cholesky_renew_left;
+  if (ws.cholesky_h == h && ws.cholesky_renewal.left == 0) return 0;
+  if (ws.cholesky_renewal.left > 0) --ws.cholesky_renewal.left;
   factor_now(m, h, ws);
   return 1;
 }
@@ -106,13 +106,18 @@ int renew_stale_cholesky(const Model& m, Real h, Workspace& ws) {
   // Stale at its first reuse (one solve with it fresh, this one with it a solve old): renew it before each of
   // the next solves, a run that doubles each time this recurs; a factor that served a reuse ends the runs.
   if (ws.cholesky_solves == 1) {
-    ws.cholesky_renew_run = std::clamp(2 * ws.cholesky_renew_run, cholesky_renew_first, cholesky_renew_most);
-    ws.cholesky_renew_left = ws.cholesky_renew_run;
+    ws.cholesky_renewal.run = std::clamp(2 * ws.cholesky_renewal.run, cholesky_renew_first, cholesky_renew_most);
+    ws.cholesky_renewal.left = ws.cholesky_renewal.run;
   } else {
-    ws.cholesky_renew_run = 0;
+    ws.cholesky_renewal.run = 0;
   }
   factor_now(m, h, ws);
   return 1;
+}
+
+void forget_cholesky_factor(Workspace& ws) {
+  ws.cholesky_h = 0;
+  ws.cholesky_solves = 0;
 }
 
 void apply_cholesky(const Model& m, Workspace& ws, std::span<const Vec3> r, std::span<Vec3> z) {

@@ -39,6 +39,12 @@ int refresh_cholesky(const Model& model, Real h, Workspace& ws);
 // Refactors after a kept factor failed to finish a solve, and starts or ends a renewal run. Returns 1.
 int renew_stale_cholesky(const Model& model, Real h, Workspace& ws);
 
+// Drops the kept factor: the next solve factors afresh (the symbolic analysis stays). Every frame starts so
+// (sim/simulation.cpp). A checkpoint holds no factor, so a run resumed from one could not otherwise precondition
+// its first steps as the whole run did, and would write other bytes. A renewal run goes on (ws.cholesky_renewal,
+// which the checkpoint holds): in one, the first solve of a frame refactors anyway.
+void forget_cholesky_factor(Workspace& ws);
+
 // z = B r: the factor's solve, or block-Jacobi while there is no valid factor.
 void apply_cholesky(const Model& model, Workspace& ws, std::span<const Vec3> r, std::span<Vec3> z);
 

@@ -127,7 +127,7 @@ int cmd_run(int argc, char** argv) {
                                  : loaded.desc.simulation.checkpoint_every,
                              frames.first);
   RunCheckpoints::Start start = checkpoints.start(args.has("--resume"), args.has("--quiet"));
-  if (start.state) simulation.resume(std::move(*start.state), start.first_frame - 1);
+  if (start.state) simulation.resume(std::move(*start.state), start.first_frame - 1, start.cholesky_renewal);
 
   Workspace& ws = simulation.workspace();
   io::RunStats stats;
@@ -186,7 +186,7 @@ int cmd_run(int argc, char** argv) {
     stats.write_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
     ++stats.frames_written;
     progress.frame_done(frame - frames.first + 1, frame);
-    checkpoints.frame_written(frame, frames.last, state);
+    checkpoints.frame_written(frame, frames.last, state, simulation.workspace().cholesky_renewal);
   }
   progress.finish();
   const State& state = simulation.state();

@@ -27,6 +27,7 @@ RunCheckpoints::Start RunCheckpoints::start(bool resume, bool quiet) {
     for (const std::string& w : warnings) std::fprintf(stderr, "clothsim: warning: %s\n", w.c_str());
     if (c) {
       at.state = std::move(c->state);
+      at.cholesky_renewal = c->cholesky_renewal;
       at.first_frame = c->frame + 1;
       first_output_ = c->first_output;  // the frames before this run's were written by the checkpoint's run
       if (!quiet) std::fprintf(stderr, "clothsim: resuming after frame %d from its checkpoint\n", c->frame);
@@ -41,13 +42,14 @@ RunCheckpoints::Start RunCheckpoints::start(bool resume, bool quiet) {
   return at;
 }
 
-void RunCheckpoints::frame_written(int frame, int last_frame, const State& state) {
+void RunCheckpoints::frame_written(int frame, int last_frame, const State& state, const CholeskyRenewal& renewal) {
   if (every_ <= 0 || ((frame - start_frame_) % every_ != 0 && frame != last_frame)) return;
   io::Checkpoint c;
   c.fingerprint = fingerprint_;
   c.frame = frame;
   c.first_output = first_output_;
   c.state = state;
+  c.cholesky_renewal = renewal;
   io::write_checkpoint(dir_, stem_, c);
 }
 

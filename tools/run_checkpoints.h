@@ -24,11 +24,12 @@ class RunCheckpoints {
   struct Start {
     int first_frame = 0;
     std::optional<State> state;  // the checkpoint's state at first_frame - 1, when resuming from one
+    CholeskyRenewal cholesky_renewal;  // and the Cholesky preconditioner's renewal run then
   };
   Start start(bool resume, bool quiet);
 
   // Called after `frame`'s output is written; writes a checkpoint every `every` frames and at `last_frame`.
-  void frame_written(int frame, int last_frame, const State& state);
+  void frame_written(int frame, int last_frame, const State& state, const CholeskyRenewal& renewal);
 
  private:
   std::string dir_, stem_;

@@ -119,14 +119,18 @@ TEST_CASE("a run killed with SIGKILL at random points resumes to the bytes of an
 TEST_CASE("a run with colliders and self-collision resumes to the bytes of an uninterrupted run") {
   // The collision stage keeps only scratch across steps (broad-phase arrays that grow, accumulators cleared each
   // step), except the collider contacts the implicit solve holds next (systems/contact_filter.h), which the
-  // checkpoint carries with x, v, time and step: a resumed run must match byte for byte.
-  for (const char* integrator : {"symplectic", "implicit"}) {
+  // checkpoint carries with x, v, time and step: a resumed run must match byte for byte. The Cholesky
+  // preconditioner's kept factor is not in the checkpoint; every frame starts with a fresh one
+  // (sim/simulation.h), so a resumed run preconditions its first solve as the whole run did.
+  for (const std::string integrator : {"symplectic", "implicit", "implicit cholesky"}) {
     CAPTURE(integrator);
-    const bool implicit = std::string(integrator) == "implicit";
-    const fs::path dir = scratch_dir(std::string("resume_collide_") + integrator);
+    const bool implicit = integrator != "symplectic";
+    const bool cholesky = integrator == "implicit cholesky";
+    const fs::path dir = scratch_dir(std::string("resume_collide_") + (cholesky ? "cholesky" : integrator));
     write_text(dir / "scene.xml", R"(<scene>
   <simulation timestep=")" + std::string(implicit ? "0.005" : "0.0005") + R"(" fps="24" startFrame="1" endFrame="12"
-              checkpointEvery="4" collisionIterations="2" integrator=")" + integrator + R"("/>
+              checkpointEvery="4" collisionIterations="2" integrator=")" + (implicit ? "implicit" : integrator.c_str()) +
+                                      (cholesky ? R"(" preconditioner="cholesky)" : "") + R"("/>
   <sphere name="ball" center="0 0 0" radius="0.25" friction="0.4"/>
   <plane name="floor" point="0 -0.3 0" normal="0 1 0"/>
   <cloth grid="12 12" size="0.8 0.8" translate="0 0.32 0" saveName="sheet" selfCollision="true">
@@ -142,9 +146,9 @@ TEST_CASE("a run with colliders and self-collision resumes to the bytes of an un
     fs::copy(dir / "ref", out);
     for (const char* f : {"sheet.0010.obj", "sheet.0011.obj", "sheet.0012.obj", "scene.0012.ckpt"})
       REQUIRE(fs::remove(out / f));
-    // The implicit run's checkpoint holds a collider contact per particle (64-byte header, x and v at 24 bytes
+    // The implicit run's checkpoint holds a collider contact per particle (72-byte header, x and v at 24 bytes
     // each, the contact at 56, 8-byte checksum); the symplectic run's holds none.
-    CHECK(read_text(out / "scene.0009.ckpt").size() == 64 + 144 * (implicit ? 104 : 48) + 8);
+    CHECK(read_text(out / "scene.0009.ckpt").size() == 72 + 144 * (implicit ? 104 : 48) + 8);
     const CliResult resumed = run_cli("run " + scene + " --out " + out.string() + " --threads 2 --resume");
     CAPTURE(resumed.output);
     REQUIRE(resumed.exit_code == 0);

@@ -19,6 +19,7 @@ io::Checkpoint sample_checkpoint(int n, int frame, bool contacts = false) {
   c.frame = frame;
   c.state.step = 1000 + frame;
   c.state.time = 0.1 * frame + 1e-17;
+  c.cholesky_renewal = {32, 7};
   for (int i = 0; i < n; ++i) {
     c.state.x.emplace_back(0.1 * i, -1.0 / (i + 3), 1e-300 * i);
     c.state.v.emplace_back(-0.0, 3.0 * i + 1.0 / 7, std::nextafter(1.0, 2.0));
@@ -36,20 +37,22 @@ bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
 TEST_CASE("a checkpoint decodes to the bit-identical state it encoded") {
   const io::Checkpoint c = sample_checkpoint(7, 12);
   const std::string bytes = io::encode_checkpoint(c);
-  // header 64 bytes + 7 particles * 2 vectors * 24 bytes + 8-byte checksum
-  CHECK(bytes.size() == 64 + 7 * 48 + 8);
+  // header 72 bytes + 7 particles * 2 vectors * 24 bytes + 8-byte checksum
+  CHECK(bytes.size() == 72 + 7 * 48 + 8);
   const io::Checkpoint d = io::decode_checkpoint("c.ckpt", bytes);
   CHECK(d.state.contact.empty());
   CHECK(d.fingerprint == c.fingerprint);
   CHECK(d.frame == 12);
   CHECK(d.state.step == 1012);
+  CHECK(d.cholesky_renewal.run == 32);
+  CHECK(d.cholesky_renewal.left == 7);
   CHECK(std::memcmp(&d.state.time, &c.state.time, sizeof(double)) == 0);
   CHECK(same_bits(d.state.x, c.state.x));
   CHECK(same_bits(d.state.v, c.state.v));  // including the sign of -0.0
   // With the implicit solve's collider contacts: 7 more numbers per particle.
   const io::Checkpoint held = sample_checkpoint(7, 12, true);
   const std::string held_bytes = io::encode_checkpoint(held);
-  CHECK(held_bytes.size() == 64 + 7 * (48 + 56) + 8);
+  CHECK(held_bytes.size() == 72 + 7 * (48 + 56) + 8);
   const std::vector<ContactHold> back = io::decode_checkpoint("c.ckpt", held_bytes).state.contact;
   REQUIRE(back.size() == held.state.contact.size());
   CHECK(std::memcmp(static_cast<const void*>(back.data()), static_cast<const void*>(held.state.contact.data()),
@@ -80,6 +83,18 @@ TEST_CASE("every truncation and every flipped byte of a checkpoint is detected")
   CHECK(refused == int(bytes.size()));
   std::string longer = bytes + "x";
   CHECK_THROWS_WITH_AS(io::decode_checkpoint("c.ckpt", longer), doctest::Contains("trailing bytes"), Error);
+}
+
+TEST_CASE("a checkpoint whose Cholesky renewal counts are impossible is refused, though its checksum holds") {
+  io::Checkpoint c = sample_checkpoint(3, 4);
+  c.cholesky_renewal = {16, 17};  // more refactorisations left than the run has
+  CHECK_THROWS_WITH_AS(io::decode_checkpoint("c.ckpt", io::encode_checkpoint(c)),
+                       doctest::Contains("renewal counts out of range"), Error);
+  c.cholesky_renewal = {0, -1};
+  CHECK_THROWS_WITH_AS(io::decode_checkpoint("c.ckpt", io::encode_checkpoint(c)),
+                       doctest::Contains("renewal counts out of range"), Error);
+  c.cholesky_renewal = {16, 16};
+  CHECK(io::decode_checkpoint("c.ckpt", io::encode_checkpoint(c)).cholesky_renewal.left == 16);
 }
 
 TEST_CASE("the newest valid checkpoint is found and a corrupted newer one is skipped with a warning") {

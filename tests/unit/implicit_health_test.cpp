@@ -126,16 +126,16 @@ TEST_CASE("a Cholesky factor stale at its first reuse is renewed before each sol
     CAPTURE(run);
     REQUIRE(ws.cholesky_solves == 1);
     CHECK(solves(1, false) == 1);
-    CHECK(ws.cholesky_renew_left == run);
+    CHECK(ws.cholesky_renewal.left == run);
     CHECK(solves(run, false) == run);
-    CHECK(ws.cholesky_renew_left == 0);
+    CHECK(ws.cholesky_renewal.left == 0);
   }
   CHECK(cholesky_renew_most == 256);
   // A factor that serves a reuse and fails the next ends the runs: one refactorisation, then reuse.
   CHECK(solves(1, true) == 0);
   CHECK(solves(1, false) == 1);
-  CHECK(ws.cholesky_renew_run == 0);
-  CHECK(ws.cholesky_renew_left == 0);
+  CHECK(ws.cholesky_renewal.run == 0);
+  CHECK(ws.cholesky_renewal.left == 0);
   CHECK(solves(3, true) == 0);
 }
 
