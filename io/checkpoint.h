@@ -3,8 +3,9 @@
 // the implicit solve holds) after a frame, and the Cholesky preconditioner's renewal run, so a killed run resumes
 // and recomputes the later frames bit for bit. The random forces are counter-based on the step index
 // (systems/random_force.h), so the step counter is their whole state; the Cholesky factor is dropped at every
-// frame's start (sim/simulation.cpp), and nothing else carries over between frames. A checkpoint is written atomically and carries a format version, a fingerprint of the scene it came
-// from and a 64-bit checksum over everything before it, so a truncated or corrupted file is recognised.
+// frame's start (sim/simulation.cpp), and nothing else carries over between frames. A checkpoint is written
+// atomically and carries a format version, a fingerprint of the scene it came from and a 64-bit checksum over
+// everything before it, so a truncated or corrupted file is recognised.
 #include <cstdint>
 #include <optional>
 #include <span>

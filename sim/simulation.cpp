@@ -6,8 +6,8 @@
 #include <utility>
 
 #include "sim/step_advice.h"
-#include "systems/cholesky_preconditioner.h"
 #include "systems/auto_step.h"
+#include "systems/cholesky_preconditioner.h"
 #include "systems/strain_limit.h"
 #include "systems/diagnostics.h"
 #include "systems/spring_forces.h"
@@ -84,8 +84,8 @@ FrameReport Simulation::advance_frame() {
   bool stepped = true;
   if (r.frame > options_.start_frame) {
     track_.prepare(model_, r.frame, ws_.collision);
-    // What the solver keeps from step to step stops at a frame's end: a run resumed from a checkpoint (which
-    // holds the state alone) then takes the same steps as the whole run.
+    // The Cholesky factor kept from step to step is dropped at a frame's start: a checkpoint cannot hold it, so a
+    // run resumed from one then preconditions, and steps, as the whole run did.
     forget_cholesky_factor(ws_);
     stepped = stepper_.advance_frame(model_, options_, state_, scratch_, ws_, r.steps);
     totals_.add(r.steps.counts);
