@@ -286,29 +286,37 @@ def write_csv(path, rows, floats):
 
 print(f"peer chart: {side} x {side} sheet, {frames / fps:g} s simulated, {args.threads} threads; load "
       f"{os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f} at the start", flush=True)
-rows = read_rows(args.rows) if args.rows else []
-for tolerance in TOLERANCES if not args.rows else []:
-    for word in args.stiffnesses.split(","):
-        for n in args.steps.split(","):
-            rows.append(clothsim_row("implicit", word, 1.0 / float(n), tolerance=tolerance))
-            print(rows[-1], flush=True)
-for pair in filter(None, args.limited.split(",") if not args.rows else []):
-    word, limit = pair.split("/")
-    for n in args.limited_steps.split(","):
-        rows.append(clothsim_row("implicit", word, 1.0 / float(n), float(limit)))
-        print(rows[-1], flush=True)
-for word in filter(None, args.symplectic.split(",") if not args.rows else []):
-    limit = symplectic_step(stiffness_of(word))
-    rows.append(clothsim_row("symplectic", word, 1.0 / (fps * int(np.ceil(1.0 / (fps * limit))))))
-    print(rows[-1], flush=True)
-for q in map(int, args.qualities.split(",") if not args.rows else []):
-    rows.append(blender_row(q))
-    print(rows[-1], flush=True)
+def run_all():
+    """Every clothsim and Blender run the options ask for, one row each, printed as it ends."""
+    rows = []
+
+    def add(row):
+        rows.append(row)
+        print(row, flush=True)
+
+    for tolerance in TOLERANCES:
+        for word in args.stiffnesses.split(","):
+            for n in args.steps.split(","):
+                add(clothsim_row("implicit", word, 1.0 / float(n), tolerance=tolerance))
+    for pair in filter(None, args.limited.split(",")):
+        word, limit = pair.split("/")
+        for n in args.limited_steps.split(","):
+            add(clothsim_row("implicit", word, 1.0 / float(n), float(limit)))
+    for word in filter(None, args.symplectic.split(",")):
+        limit = symplectic_step(stiffness_of(word))
+        add(clothsim_row("symplectic", word, 1.0 / (fps * int(np.ceil(1.0 / (fps * limit))))))
+    for q in map(int, args.qualities.split(",")):
+        add(blender_row(q))
+    return rows
+
+
 floats = {"step_s", "wall_s", "cpu_s", "max_strain", "sag_m", "load1", "blender_strain", "blender_wall_s",
-          "blender_sag_m", "clothsim_sag_m", "strict_strain", "strict_wall_s", "strict_sag_m", "strict_wall_ratio",
-          "strict_cpu_ratio", "clothsim_strain", "clothsim_wall_s", "clothsim_wall_ratio", "clothsim_cpu_ratio",
-          "blender_cpu_s", "clothsim_strain", "clothsim_wall_s", "wall_ratio", "cpu_ratio"}
-if not args.rows:
+          "blender_cpu_s", "blender_sag_m"}
+floats |= {p + k for p in ("clothsim_", "strict_") for k in ("strain", "wall_s", "sag_m", "wall_ratio", "cpu_ratio")}
+if args.rows:
+    rows = read_rows(args.rows)
+else:
+    rows = run_all()
     write_csv(os.path.join(args.out, "peer_chart.csv"), rows, floats)
 m = matches(rows)
 if m:

@@ -121,7 +121,7 @@ TEST_CASE("a run with colliders and self-collision resumes to the bytes of an un
   // step), except the collider contacts the implicit solve holds next (systems/contact_filter.h), which the
   // checkpoint carries with x, v, time and step: a resumed run must match byte for byte. The Cholesky
   // preconditioner's kept factor is not in the checkpoint; every frame starts with a fresh one
-  // (sim/simulation.h), so a resumed run preconditions its first solve as the whole run did.
+  // (Simulation::advance_frame), so a resumed run preconditions its first solve as the whole run did.
   for (const std::string integrator : {"symplectic", "implicit", "implicit cholesky"}) {
     CAPTURE(integrator);
     const bool implicit = integrator != "symplectic";
