@@ -61,6 +61,7 @@ std::string format_stats(const Model& m, const SimOptions& o, const RunStats& s)
     }
     if (m.collision.enabled) {
       j.field("contacts", f.contacts).field("penetrations", f.penetrations);
+      if (m.strain_limited) j.field("guarded", f.guarded);
       if (m.collision.impact_zones()) {
         j.key("impact_zones").begin_object()
             .field("steps", f.zones.steps).field("passes", f.zones.passes).field("zones", f.zones.zones)

@@ -16,6 +16,7 @@ struct FrameStats {
   long long contacts = 0;                 // contacts found in the first collision pass of this frame's steps
   std::vector<Real> collider_distance;    // smallest cloth-to-collider distance, m (one per collider)
   long long penetrations = 0;             // independent check: vertices inside colliders + crossing triangle pairs
+  long long guarded = 0;  // vertices the collider guard put back on a surface (strain-limited scenes with collisions)
   std::vector<int> cg_iterations;  // implicit: CG iterations of each step of the frame (empty otherwise)
   std::vector<Real> cg_residual;   // implicit: final relative CG residual |r|/|b| of each step
   ZoneFigures zones;               // rigid impact zones of this frame's steps (written when the scene has them)

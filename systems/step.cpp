@@ -6,6 +6,7 @@
 
 #include "systems/attachments.h"
 #include "systems/collision/cloth_holds.h"
+#include "systems/collision/collider_guard.h"
 #include "systems/collision/collide.h"
 #include "systems/forces.h"
 #include "systems/integrate_explicit.h"
@@ -105,8 +106,19 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
     set_contact_planes(model, out, s.contact_offset);
     gather_cloth_holds(model, in, out, s);
     const auto hold = [&](State& held, const MovedParticle& moved) { apply_cloth_holds(model, held, s, h, moved); };
-    limit_with_stitches(model, ws, out, h, t, result.counts.strain_sweeps, stitch_strain_rounds_after_collide,
-                        [&] { return apply_strain_limit_on_contacts(model, out, h, s.contact_offset, hold); });
+    const auto limit = [&] {
+      limit_with_stitches(model, ws, out, h, t, result.counts.strain_sweeps, stitch_strain_rounds_after_collide,
+                          [&] { return apply_strain_limit_on_contacts(model, out, h, s.contact_offset, hold); });
+    };
+    limit();
+    // Vertices the rounds slid behind another part of a collider go back on its surface, held there by a plane
+    // of their own while the limit pulls their neighbours after them; the second guard has the last word.
+    result.counts.guarded = guard_collider_surfaces(model, out, s, h);
+    if (result.counts.guarded > 0) {
+      set_contact_planes(model, out, s.contact_offset);
+      limit();
+      result.counts.guarded += guard_collider_surfaces(model, out, s, h);
+    }
   }
   // The colliders' positions over the step, as the collide stage placed them.
   if (measure) {

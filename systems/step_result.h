@@ -25,6 +25,7 @@ struct StepCounts {
   std::int64_t cg_iterations = 0;      // implicit
   std::int64_t strain_sweeps = 0;      // strain-limit sweeps (systems/strain_limit.h)
   std::int64_t contacts = 0;           // contacts found by the first collision pass
+  std::int64_t guarded = 0;            // vertices put back on a collider surface (systems/collision/collider_guard.h)
   ZoneFigures zones;                   // the impact zones (systems/collision/impact_zones.h)
   double seconds_forces = 0, seconds_integrate = 0, seconds_collide = 0;  // wall time of the stages
 
@@ -33,6 +34,7 @@ struct StepCounts {
     cg_iterations += o.cg_iterations;
     strain_sweeps += o.strain_sweeps;
     contacts += o.contacts;
+    guarded += o.guarded;
     zones.add(o.zones);
     seconds_forces += o.seconds_forces;
     seconds_integrate += o.seconds_integrate;

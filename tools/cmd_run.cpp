@@ -85,6 +85,7 @@ io::FrameStats frame_stats(const sim::FrameReport& r) {
   f.strain_excess = r.strain_excess;
   f.kinetic_energy = r.kinetic_energy;
   f.contacts = r.steps.counts.contacts;
+  f.guarded = r.steps.counts.guarded;
   f.zones = r.steps.counts.zones;
   f.steps = {r.steps.taken, r.steps.rejected, r.steps.smallest, r.steps.largest};
   f.implicit_failed = r.steps.failed;
