@@ -322,7 +322,10 @@ Workspace make_workspace(const Model& model, const SimOptions& options) {
     s.filter_normal.assign(model.particle_count, Vec3::Zero());
     s.held_impulse.assign(model.particle_count, 0);
     s.held_rhs.assign(model.particle_count, 0);
-    if (model.strain_limited) s.contact_offset.assign(model.particle_count, 0);
+    if (model.strain_limited) {
+      s.contact_offset.assign(model.particle_count, 0);
+      s.collided_x.assign(model.particle_count, Vec3::Zero());
+    }
   }
   return ws;
 }

@@ -266,6 +266,9 @@ struct CollisionScratch {
   // n . x of each particle the collide stage left on a collider, n its contact's normal: the plane the strain
   // limit after the collide stage keeps it in front of (systems/strain_limit.h; particle_count, with the filter).
   std::vector<Real> contact_offset;
+  // Where the collide stage left each particle (particle_count, with contact_offset): a vertex the strain limit's
+  // rounds after it carry into a collider goes back along its way towards there (systems/collision/collider_guard.h).
+  std::vector<Vec3> collided_x;
   // The cloth-cloth pairs the collide stage left within the thickness, sorted: the strain limit after the
   // collide stage keeps each at least as far apart as the stage left it (systems/collision/cloth_holds.h).
   std::vector<Contact> cloth_holds;

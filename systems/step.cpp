@@ -103,6 +103,7 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
   // the contacts alone hold stretched (a pinch) is left for the step control to judge.
   if (!ws.collision.contact_offset.empty()) {
     CollisionScratch& s = ws.collision;
+    std::copy(out.x.begin(), out.x.end(), s.collided_x.begin());
     set_contact_planes(model, out, s.contact_offset);
     gather_cloth_holds(model, in, out, s);
     const auto hold = [&](State& held, const MovedParticle& moved) { apply_cloth_holds(model, held, s, h, moved); };

@@ -41,6 +41,49 @@ bool behind_collider_triangle(const Model& m, const CollisionScratch& s, Index t
   return (x - q).dot(normal) < 0;
 }
 
+namespace {
+
+// The collider-mesh triangle nearest to x within `reach` (none: tri < 0), its closest point q, and whether x lies
+// behind it.
+struct Nearest {
+  Index tri = -1;
+  Vec3 q;
+  Real distance = 0;
+  bool behind = false;
+  // Signed distance to the surface, m: negative behind it; +infinity with no triangle in reach.
+  Real signed_distance() const {
+    return tri < 0 ? std::numeric_limits<Real>::infinity() : behind ? -distance : distance;
+  }
+};
+
+Nearest nearest_surface(const Model& m, const CollisionScratch& s, const Vec3& x, Real reach) {
+  const CollisionModel& c = m.collision;
+  const Aabb box{Vec3(x.array() - reach), Vec3(x.array() + reach)};
+  Real best = reach * reach;
+  Nearest n;
+  query_bvh(c.collider_tree, s.collider_node_box, box, [&](Index slot) {
+    const Index tri = c.prim[slot] - m.tri_count;
+    const Index* v = &c.mesh_tri_index[3 * tri];
+    const Vec3 q = closest_point_on_triangle(x, s.collider_x1[v[0]], s.collider_x1[v[1]], s.collider_x1[v[2]]);
+    const Real d2 = (x - q).squaredNorm();
+    // Ties go to the lower triangle, so the visiting order does not matter.
+    if (d2 < best || (d2 == best && n.tri >= 0 && tri < n.tri)) {
+      best = d2;
+      n.tri = tri;
+      n.q = q;
+    }
+  });
+  if (n.tri < 0) return n;
+  n.distance = std::sqrt(best);
+  n.behind = n.distance > 0 && behind_collider_triangle(m, s, n.tri, x, n.q);
+  return n;
+}
+
+// Bisections of the way back: 2^-20 of a few millimetres is far below any thickness.
+constexpr int way_back_bisections = 20;
+
+}  // namespace
+
 Index guard_collider_surfaces(const Model& m, State& out, const CollisionScratch& s, Real h) {
   const CollisionModel& c = m.collision;
   if (c.mesh_tri_collider.empty() || s.collider_node_box.empty()) return 0;
@@ -48,34 +91,37 @@ Index guard_collider_surfaces(const Model& m, State& out, const CollisionScratch
     if (m.particle_inv_mass[i] == 0) return 0;
     const Vec3 x = out.x[i];
     const Real reach = collider_guard_reach * m.particle_thickness[i];
-    const Aabb box{Vec3(x.array() - reach), Vec3(x.array() + reach)};
-    Real best = reach * reach;
-    Index nearest = -1;
-    Vec3 on = x;
-    query_bvh(c.collider_tree, s.collider_node_box, box, [&](Index slot) {
-      const Index tri = c.prim[slot] - m.tri_count;
-      const Index* v = &c.mesh_tri_index[3 * tri];
-      const Vec3 q = closest_point_on_triangle(x, s.collider_x1[v[0]], s.collider_x1[v[1]], s.collider_x1[v[2]]);
-      const Real d2 = (x - q).squaredNorm();
-      // Ties go to the lower triangle, so the visiting order does not matter.
-      if (d2 < best || (d2 == best && nearest >= 0 && tri < nearest)) {
-        best = d2;
-        nearest = tri;
-        on = q;
+    const Real margin = collider_guard_margin * m.particle_thickness[i];
+    const Nearest inside = nearest_surface(m, s, x, reach);
+    if (!inside.behind) return 0;
+    // Back the way the rounds carried it, towards where the collide stage left it, to the first point the margin
+    // outside: that way is clear of the cloth layers beside it, where the nearest surface point may lie across
+    // them. When the collide stage itself left it closer (a pinch), onto the nearest surface instead.
+    Vec3 to = inside.q + margin * (inside.q - x) / inside.distance;
+    Nearest at;
+    if (!s.collided_x.empty() && nearest_surface(m, s, s.collided_x[i], reach).signed_distance() >= margin) {
+      const Vec3 way = s.collided_x[i] - x;
+      Real lo = 0, hi = 1;
+      for (int k = 0; k < way_back_bisections; ++k) {
+        const Real mid = (lo + hi) / 2;
+        (nearest_surface(m, s, x + mid * way, reach).signed_distance() >= margin ? hi : lo) = mid;
       }
-    });
-    if (nearest < 0 || !(best > 0) || !behind_collider_triangle(m, s, nearest, x, on)) return 0;
-    const Vec3 u = (on - x) / std::sqrt(best);  // outwards
-    out.x[i] = on + collider_guard_margin * m.particle_thickness[i] * u;
+      to = x + hi * way;
+    }
+    at = nearest_surface(m, s, to, reach);
+    const Vec3 u = at.tri >= 0 && at.distance > 0 && !at.behind ? Vec3((to - at.q) / at.distance)
+                                                                 : Vec3((inside.q - x) / inside.distance);
+    out.x[i] = to;
     const Real vn = out.v[i].dot(u);
     if (vn < 0) out.v[i] -= vn * u;
     // Held there from now on: by the strain limit's planes in this step, by the next solve's filter after it.
     if (out.contact.empty()) return 1;
-    const Index* v = &c.mesh_tri_index[3 * nearest];
-    const Vec3 w = barycentric(s.collider_x1[v[0]], s.collider_x1[v[1]], s.collider_x1[v[2]], on);
+    const Index tri = at.tri >= 0 ? at.tri : inside.tri;
+    const Index* v = &c.mesh_tri_index[3 * tri];
+    const Vec3 w = barycentric(s.collider_x1[v[0]], s.collider_x1[v[1]], s.collider_x1[v[2]], at.tri >= 0 ? at.q : inside.q);
     Vec3 moving = Vec3::Zero();
     for (int k = 0; k < 3; ++k) moving += w[k] * (s.collider_x1[v[k]] - s.collider_x0[v[k]]) / h;
-    out.contact[i] = {u, moving, collider_friction(m, i, c.mesh_tri_collider[nearest])};
+    out.contact[i] = {u, moving, collider_friction(m, i, c.mesh_tri_collider[tri])};
     return 1;
   });
 }

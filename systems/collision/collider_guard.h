@@ -3,7 +3,7 @@
 // (systems/step.cpp). Those rounds keep each contact in front of its one contact plane, but a vertex may slide
 // along that plane into another part of the body (cloth between the arm and the chest), and a vertex with no
 // plane (its contact normals disagreed) is free. So after them every cloth vertex is tested against the collider
-// triangles within collider_guard_reach thicknesses, and one found behind the surface is put back on it.
+// triangles within collider_guard_reach thicknesses, and one found behind the surface is taken back out of it.
 #include "core/model.h"
 
 namespace clothsim {
@@ -11,8 +11,8 @@ namespace clothsim {
 // How far behind a collider surface a vertex is looked for, in cloth thicknesses: the rounds move contacts by
 // a few millimetres at most (the Rumba's deepest crossing was 4 mm with 3 mm thick cloth).
 inline constexpr Real collider_guard_reach = 2;
-// Where a vertex found behind the surface is put: this fraction of its thickness in front of it, so that the next
-// step's proximity pass, not this one, eases it out to the thickness (collider_separation_speed).
+// How far in front of the surface a vertex found behind it is put, in its thickness: the next step's proximity
+// pass, not this one, eases it out to the thickness (collider_separation_speed).
 inline constexpr Real collider_guard_margin = 0.1;
 
 // Whether point x lies behind the surface of collider triangle `tri` (corners at the end of the step), judged at
@@ -22,7 +22,10 @@ bool behind_collider_triangle(const Model& model, const CollisionScratch& s, Ind
                               const Vec3& q);
 
 // Moves every movable cloth vertex of out that lies behind its nearest collider-mesh triangle (within the reach)
-// onto that surface plus the margin, removing the velocity into it, and makes that surface its contact
+// out of the collider: back along the straight way from where the collide stage left it (s.collided_x, when that
+// is at least the margin outside) to the first point the margin outside, found by bisection; else onto that
+// nearest surface plus the margin. It loses the velocity into the surface and takes the surface nearest to its
+// new place as its contact
 // (out.contact: the outward normal, the collider's velocity there over the step h, the friction), so that the
 // strain limit's planes and the next solve's filter hold it. Uses the collider side of the broad phase the step's
 // collide stage built (its boxes cover the colliders' end positions). Returns the vertices moved. Each vertex is

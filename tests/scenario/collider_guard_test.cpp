@@ -34,13 +34,16 @@ test::LoadedCollisionScene guard_scene() {
 
 }  // namespace
 
-TEST_CASE("the collider guard puts a vertex found behind a surface back on it, and leaves the rest alone") {
+TEST_CASE("the collider guard puts a vertex found behind a surface onto it, and leaves the rest alone") {
   const auto sc = guard_scene();
   const Model& m = sc.built.model;
   Workspace ws = make_workspace(m, sc.built.options);
   State s = sc.built.state;
   build_broad_phase(m, s, s, ws.collision);
-  const std::vector<Vec3> start = s.x;
+  // The collide stage left vertex 0 0.1 mm above the top, closer than the guard's margin (a pinch), so the way
+  // back is no better: it goes onto the nearest surface.
+  ws.collision.collided_x = s.x;
+  ws.collision.collided_x[0].y() = 0.0001;
   s.x[0].y() = -0.002;   // 2 mm inside the box, within the 6 mm reach
   s.v[0] = Vec3(0.1, -0.5, 0);
   s.x[1].y() = -0.008;   // 8 mm inside: beyond the reach, left to the next collide stage
@@ -63,6 +66,28 @@ TEST_CASE("the collider guard puts a vertex found behind a surface back on it, a
     CHECK(s.x[i] == before.x[i]);
     CHECK(s.v[i] == before.v[i]);
   }
+}
+
+TEST_CASE("the collider guard takes a vertex back the way it came, to where it is the margin outside") {
+  const auto sc = guard_scene();
+  const Model& m = sc.built.model;
+  Workspace ws = make_workspace(m, sc.built.options);
+  REQUIRE(ws.collision.collided_x.size() == std::size_t(m.particle_count));
+  State s = sc.built.state;
+  s.contact.assign(std::size_t(m.particle_count), ContactHold{});
+  build_broad_phase(m, s, s, ws.collision);
+  // The collide stage left vertex 0 3 mm above the box's top; the rounds then carried it 4 mm sideways and 5 mm
+  // down, 2 mm into the box. Straight up would be 2.3 mm; back along its way, the margin (0.3 mm) above the top
+  // is 46 % of the way.
+  const Vec3 from = s.x[0];
+  ws.collision.collided_x = s.x;
+  s.x[0] = from + Vec3(0.004, -0.005, 0);
+  CHECK(guard_collider_surfaces(m, s, ws.collision, 1e-3) == 1);
+  const Real t = (collider_guard_margin * thickness + 0.002) / 0.005;
+  CHECK(s.x[0].x() == doctest::Approx(from.x() + 0.004 * (1 - t)).epsilon(1e-6));
+  CHECK(s.x[0].y() == doctest::Approx(collider_guard_margin * thickness).epsilon(1e-4));
+  CHECK(s.x[0].z() == doctest::Approx(from.z()).epsilon(1e-12));
+  CHECK((s.contact[0].normal - Vec3(0, 1, 0)).norm() < 1e-12);
 }
 
 TEST_CASE("inside or outside at a sharp corner: judged by the corner's normal, not by one face's plane") {
