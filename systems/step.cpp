@@ -112,8 +112,8 @@ StepResult step(const Model& model, const SimOptions& options, const State& in, 
                           [&] { return apply_strain_limit_on_contacts(model, out, h, s.contact_offset, hold); });
     };
     limit();
-    // Vertices the rounds slid behind another part of a collider go back on its surface, held there by a plane
-    // of their own while the limit pulls their neighbours after them; the second guard has the last word.
+    // Vertices the rounds slid behind another part of a collider go back out of it, held there by a plane of
+    // their own while the limit pulls their neighbours after them; the second guard has the last word.
     result.counts.guarded = guard_collider_surfaces(model, out, s, h);
     if (result.counts.guarded > 0) {
       set_contact_planes(model, out, s.contact_offset);

@@ -98,7 +98,6 @@ Index guard_collider_surfaces(const Model& m, State& out, const CollisionScratch
     // outside: that way is clear of the cloth layers beside it, where the nearest surface point may lie across
     // them. When the collide stage itself left it closer (a pinch), onto the nearest surface instead.
     Vec3 to = inside.q + margin * (inside.q - x) / inside.distance;
-    Nearest at;
     if (!s.collided_x.empty() && nearest_surface(m, s, s.collided_x[i], reach).signed_distance() >= margin) {
       const Vec3 way = s.collided_x[i] - x;
       Real lo = 0, hi = 1;
@@ -108,7 +107,7 @@ Index guard_collider_surfaces(const Model& m, State& out, const CollisionScratch
       }
       to = x + hi * way;
     }
-    at = nearest_surface(m, s, to, reach);
+    const Nearest at = nearest_surface(m, s, to, reach);
     const Vec3 u = at.tri >= 0 && at.distance > 0 && !at.behind ? Vec3((to - at.q) / at.distance)
                                                                  : Vec3((inside.q - x) / inside.distance);
     out.x[i] = to;
