@@ -127,6 +127,13 @@ inline PrimCorners corners(const Model& m, const State& in, const State& out, co
   return c;
 }
 
+// The velocity over the step of h of the point with weights w (three) on the prim.
+inline Vec3 prim_velocity(const PrimCorners& t, const Real* w, Real h) {
+  Vec3 v = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) v += w[k] * (t.x1[k] - t.x0[k]) / h;
+  return v;
+}
+
 // Every collider-mesh vertex whose swept box may come within the thickness of cloth triangle t's swept box,
 // through the broad phase's collider triangles: a vertex is reported only by its lowest triangle, so each
 // (t, vertex) pair once. on_pair(t, vertex). Nothing for a scene without collider meshes. Triangles whose swept

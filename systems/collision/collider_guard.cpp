@@ -9,36 +9,23 @@
 
 namespace clothsim {
 
-namespace {
-
-// Barycentric weights of point q of triangle (a, b, c), by the sub-triangles' areas along the normal.
-Vec3 barycentric(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& q) {
-  const Vec3 face = (b - a).cross(c - a);
-  const Real area2 = face.squaredNorm();
-  if (!(area2 > 0)) return Vec3(1, 0, 0);
-  return Vec3((b - q).cross(c - q).dot(face), (c - q).cross(a - q).dot(face), (a - q).cross(b - q).dot(face)) / area2;
-}
-
-}  // namespace
-
-bool behind_collider_triangle(const Model& m, const CollisionScratch& s, Index tri, const Vec3& x, const Vec3& q) {
+bool behind_collider_triangle(const Model& m, const CollisionScratch& s, Index tri, const Vec3& x,
+                              const TrianglePoint& q) {
   const CollisionModel& c = m.collision;
   const Index* v = &c.mesh_tri_index[3 * tri];
   const Vec3 &a = s.collider_x1[v[0]], &b = s.collider_x1[v[1]], &cc = s.collider_x1[v[2]];
   const Vec3 face = (b - a).cross(cc - a);
   if (!(face.squaredNorm() > 0)) return false;
   // Which corners q lies on: all three weights positive is the face, one zero an edge, two a corner.
-  const Vec3 w = barycentric(a, b, cc, q);
-  const Real tiny = 1e-9;
   Vec3 normal = Vec3::Zero();
   int corners = 0;
   for (int k = 0; k < 3; ++k)
-    if (w[k] > tiny) {
+    if (q.weights[k] > 0) {
       normal += collider_vertex_normal(c, s, v[k]);
       ++corners;
     }
   if (corners == 3 || corners == 0) normal = face;
-  return (x - q).dot(normal) < 0;
+  return (x - q.point).dot(normal) < 0;
 }
 
 namespace {
@@ -47,7 +34,7 @@ namespace {
 // behind it.
 struct Nearest {
   Index tri = -1;
-  Vec3 q;
+  TrianglePoint q;
   Real distance = 0;
   bool behind = false;
   // Signed distance to the surface, m: negative behind it; +infinity with no triangle in reach.
@@ -64,8 +51,9 @@ Nearest nearest_surface(const Model& m, const CollisionScratch& s, const Vec3& x
   query_bvh(c.collider_tree, s.collider_node_box, box, [&](Index slot) {
     const Index tri = c.prim[slot] - m.tri_count;
     const Index* v = &c.mesh_tri_index[3 * tri];
-    const Vec3 q = closest_point_on_triangle(x, s.collider_x1[v[0]], s.collider_x1[v[1]], s.collider_x1[v[2]]);
-    const Real d2 = (x - q).squaredNorm();
+    const TrianglePoint q =
+        closest_point_and_weights(x, s.collider_x1[v[0]], s.collider_x1[v[1]], s.collider_x1[v[2]]);
+    const Real d2 = (x - q.point).squaredNorm();
     // Ties go to the lower triangle, so the visiting order does not matter.
     if (d2 < best || (d2 == best && n.tri >= 0 && tri < n.tri)) {
       best = d2;
@@ -97,7 +85,7 @@ Index guard_collider_surfaces(const Model& m, State& out, const CollisionScratch
     // Back the way the rounds carried it, towards where the collide stage left it, to the first point the margin
     // outside: that way is clear of the cloth layers beside it, where the nearest surface point may lie across
     // them. When the collide stage itself left it closer (a pinch), onto the nearest surface instead.
-    Vec3 to = inside.q + margin * (inside.q - x) / inside.distance;
+    Vec3 to = inside.q.point + margin * (inside.q.point - x) / inside.distance;
     if (!s.collided_x.empty() && nearest_surface(m, s, s.collided_x[i], reach).signed_distance() >= margin) {
       const Vec3 way = s.collided_x[i] - x;
       Real lo = 0, hi = 1;
@@ -108,19 +96,17 @@ Index guard_collider_surfaces(const Model& m, State& out, const CollisionScratch
       to = x + hi * way;
     }
     const Nearest at = nearest_surface(m, s, to, reach);
-    const Vec3 u = at.tri >= 0 && at.distance > 0 && !at.behind ? Vec3((to - at.q) / at.distance)
-                                                                 : Vec3((inside.q - x) / inside.distance);
+    const Nearest& held = at.tri >= 0 ? at : inside;
+    const Vec3 u = at.tri >= 0 && at.distance > 0 && !at.behind ? Vec3((to - at.q.point) / at.distance)
+                                                                 : Vec3((inside.q.point - x) / inside.distance);
     out.x[i] = to;
     const Real vn = out.v[i].dot(u);
     if (vn < 0) out.v[i] -= vn * u;
     // Held there from now on: by the strain limit's planes in this step, by the next solve's filter after it.
     if (out.contact.empty()) return 1;
-    const Index tri = at.tri >= 0 ? at.tri : inside.tri;
-    const Index* v = &c.mesh_tri_index[3 * tri];
-    const Vec3 w = barycentric(s.collider_x1[v[0]], s.collider_x1[v[1]], s.collider_x1[v[2]], at.tri >= 0 ? at.q : inside.q);
-    Vec3 moving = Vec3::Zero();
-    for (int k = 0; k < 3; ++k) moving += w[k] * (s.collider_x1[v[k]] - s.collider_x0[v[k]]) / h;
-    out.contact[i] = {u, moving, collider_friction(m, i, c.mesh_tri_collider[tri])};
+    // corners() reads only the collider's own positions for a collider prim.
+    const Vec3 moving = prim_velocity(corners(m, out, out, s, m.tri_count + held.tri), held.q.weights.data(), h);
+    out.contact[i] = {u, moving, collider_friction(m, i, c.mesh_tri_collider[held.tri])};
     return 1;
   });
 }

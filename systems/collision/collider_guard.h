@@ -5,6 +5,7 @@
 // plane (its contact normals disagreed) is free. So after them every cloth vertex is tested against the collider
 // triangles within collider_guard_reach thicknesses, and one found behind the surface is taken back out of it.
 #include "core/model.h"
+#include "core/triangle_distance.h"
 
 namespace clothsim {
 
@@ -16,10 +17,11 @@ inline constexpr Real collider_guard_reach = 2;
 inline constexpr Real collider_guard_margin = 0.1;
 
 // Whether point x lies behind the surface of collider triangle `tri` (corners at the end of the step), judged at
-// its closest point q by the angle-weighted normal of the feature q lies on (face, edge or vertex: Baerentzen &
-// Aanaes 2005), so that a point beside an edge or a corner is judged by both sides.
+// its closest point q (closest_point_and_weights) by the angle-weighted normal of the feature q lies on (face,
+// edge or vertex: its nonzero weights; Baerentzen & Aanaes 2005), so that a point beside an edge or a corner is
+// judged by both sides.
 bool behind_collider_triangle(const Model& model, const CollisionScratch& s, Index tri, const Vec3& x,
-                              const Vec3& q);
+                              const TrianglePoint& q);
 
 // Moves every movable cloth vertex of out that lies behind its nearest collider-mesh triangle (within the reach)
 // out of the collider: back along the straight way from where the collide stage left it (s.collided_x, when that

@@ -58,8 +58,7 @@ void respond_vertex_triangle(const Model& m, const State& out, CollisionScratch&
   const Real thick = m.particle_thickness[i];
   const Real mu = contact_friction(m, i, prim);
   if (!t.cloth) {
-    Vec3 v_col = Vec3::Zero();
-    for (int k = 0; k < 3; ++k) v_col += w[k] * (t.x1[k] - t.x0[k]) / h;
+    const Vec3 v_col = prim_velocity(t, w, h);
     note_collider_contact(s, i, n, v_col, mu);
     if (d >= thick) return;  // within collider_reach only: held in the next solve, not pushed
     const Vec3 dv = collider_velocity_change(out.v[i], v_col, n, m.cloths[m.collision.particle_cloth[i]].restitution,

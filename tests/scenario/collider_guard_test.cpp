@@ -110,8 +110,8 @@ TEST_CASE("inside or outside at a sharp corner: judged by the corner's normal, n
     const Vec3 &a = s.collider_x1[v[0]], &b = s.collider_x1[v[1]], &c = s.collider_x1[v[2]];
     far_plane += (beside - a).dot((b - a).cross(c - a)) < 0;
     CHECK((closest_point_on_triangle(beside, a, b, c) - apex).norm() < 1e-12);
-    CHECK_FALSE(behind_collider_triangle(m, s, t, beside, apex));
-    CHECK(behind_collider_triangle(m, s, t, under, closest_point_on_triangle(under, a, b, c)));
+    CHECK_FALSE(behind_collider_triangle(m, s, t, beside, closest_point_and_weights(beside, a, b, c)));
+    CHECK(behind_collider_triangle(m, s, t, under, closest_point_and_weights(under, a, b, c)));
   }
   CHECK(apex_triangles == 4);
   CHECK(far_plane >= 1);  // a face's own plane would have called the outside point inside
