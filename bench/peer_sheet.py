@@ -88,13 +88,15 @@ def bake_cloth(obj, pins, quality, tension, vertex_mass, frames, settings=None):
     return wall, cpu, positions
 
 
-def bake_blender(side, fps, frames, quality, tension, threads, settings=None):
+def bake_blender(side, fps, frames, quality, tension, threads, settings=None, gravity=9.81, mass=1.0, pinned=True):
     """Bakes the sheet at `quality` substeps a frame; returns wall and CPU seconds of the bake, the largest
     structural strain over frames 2..1 + frames, whether every position stayed finite, and the mean drop of the
     vertices (m) at the last frame, which shows whether the sheet moved at all. `settings` overrides cloth
-    settings by name (e.g. {"air_damping": 0.0}); without it Blender's defaults stand."""
+    settings by name (e.g. {"air_damping": 0.0}); without it Blender's defaults stand. `gravity` is the scene's
+    (m/s^2, downwards), `mass` the sheet's (kg, spread evenly over its vertices); `pinned` False leaves the
+    corners free (bench/peer_blender_motion.py)."""
     particles = side * side
-    reset_scene(threads, fps, frames, (0, 0, -9.81))
+    reset_scene(threads, fps, frames, (0, 0, -gravity))
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=side - 1, y_subdivisions=side - 1, size=1.0,
                                     location=(0, 0, 1))
     obj = bpy.context.object
@@ -113,7 +115,8 @@ def bake_blender(side, fps, frames, quality, tension, threads, settings=None):
     edges = edges.reshape(-1, 2)
     rest = np.linalg.norm(co[edges[:, 1]] - co[edges[:, 0]], axis=1)
 
-    wall, cpu, positions = bake_cloth(obj, corners, quality, tension, 1.0 / particles, frames, settings)
+    wall, cpu, positions = bake_cloth(obj, corners if pinned else [], quality, tension, mass / particles, frames,
+                                      settings)
     worst, finite = 0.0, True
     for pos in positions:
         finite = finite and bool(np.all(np.isfinite(pos)))
