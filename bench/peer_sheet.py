@@ -127,9 +127,10 @@ def bake_blender(side, fps, frames, quality, tension, threads, settings=None, gr
 
 
 def write_clothsim_scene(xml, out, side, fps, frames, integrator, timestep, stiffness, cg_tolerance=1e-3,
-                         max_strain=0.0, preconditioner="", newton_iterations=0):
-    """The sheet as a clothsim scene (density 1 kg/m^2 over 1 m^2, air damping 0.1, spring
-    damping 0.1, bend 0.1 x stiffness); the step is rounded to divide a frame evenly, as clothsim requires."""
+                         max_strain=0.0, preconditioner="", newton_iterations=0, damping=0.1, air_damping=0.1,
+                         bend=0.1):
+    """The sheet as a clothsim scene (density 1 kg/m^2 over 1 m^2; air damping, spring damping and bend, a fraction
+    of the stiffness, 0.1 unless given); the step is rounded to divide a frame evenly, as clothsim requires."""
     steps_per_frame = max(1, round(1.0 / (fps * timestep)))
     extra = f' preconditioner="{preconditioner}"' if preconditioner else ""
     extra += f' newtonIterations="{newton_iterations}"' if newton_iterations else ""
@@ -140,11 +141,11 @@ def write_clothsim_scene(xml, out, side, fps, frames, integrator, timestep, stif
 <scene>
   <simulation timestep="{1.0 / (fps * steps_per_frame)!r}" fps="{fps}" startFrame="1" endFrame="{1 + frames}"
               integrator="{integrator}" cgTolerance="{cg_tolerance!r}" gravity="0 -9.81 0"{extra}/>
-  <forces><airDamping value="0.1"/></forces>
+  <forces><airDamping value="{air_damping!r}"/></forces>
   <cloth name="sheet" grid="{side} {side}" size="1 1" translate="0 1 0" saveDir="{out}" saveName="sheet"{limit}>
     <density value="1"/>
-    <stiffness value="{stiffness!r}" bend="0.1"/>
-    <damping value="0.1"/>
+    <stiffness value="{stiffness!r}" bend="{bend!r}"/>
+    <damping value="{damping!r}"/>
     <pins vertices="0 {side - 1}"/>
   </cloth>
 </scene>
