@@ -47,6 +47,7 @@ args = ap.parse_args(argv)
 frames = round(args.seconds * args.fps)
 seconds = frames / args.fps
 matched = 9.81 / (0.001 * args.fps ** 2)
+steps, step = frames * args.quality, 1.0 / (args.fps * args.quality)
 undamped = {name: 0.0 for name in ("air_damping", "tension_damping", "compression_damping", "shear_damping",
                                    "bending_damping")}
 rows = [
@@ -62,7 +63,8 @@ rows = [
 ]
 print(f"{args.side} x {args.side} sheet, 1 m, {seconds:g} s simulated, Blender quality {args.quality}, tension "
       f"{args.tension:g}, {args.fps} fps; g matched = scene gravity {matched:.3f} m/s^2; a free fall under "
-      f"9.81 m/s^2 drops {0.5 * 9.81 * seconds ** 2:.3f} m")
+      f"9.81 m/s^2 drops {0.5 * 9.81 * seconds ** 2:.3f} m ({9.81 * steps * (steps + 1) / 2 * step ** 2:.4f} m in "
+      f"Blender's {steps} backward-Euler steps)")
 print(f"{'bake':<56} {'mean fall, m':>12} {'largest strain':>14} {'wall, s':>8}")
 for label, kw in rows:
     kw.setdefault("tension", args.tension)
