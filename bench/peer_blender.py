@@ -14,8 +14,8 @@ by side") explains the model differences.
 
 Matched model: assuming Blender's spring constant is tension / (average spring length), clothsim gets stiffness =
 tension * (side - 1) N/m per spring unless --stiffness is given (Blender counts time in frames, so its springs are
-that times fps^2 in N/m: bench/peer_blender_motion.py and docs/accuracy.md give the figures), the same 1 kg spread over side^2 vertices, and
-gravity 9.81 m/s^2. Blender's bending (angular) and damping models differ
+that times fps^2 in N/m: bench/peer_blender_motion.py and docs/accuracy.md give the figures), the same 1 kg spread
+over side^2 vertices, and gravity 9.81 m/s^2. Blender's bending (angular) and damping models differ
 from clothsim's springs; both are left at values that keep each sheet stable.
 """
 import argparse

@@ -26,7 +26,8 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from peer_run import run_clothsim_timed  # noqa: E402
-from peer_sheet import bake_blender, grid_edges, read_obj, structural_strain, write_clothsim_scene  # noqa: E402
+from peer_sheet import (UNDAMPED, backward_euler_fall, bake_blender, grid_edges, matched_gravity,  # noqa: E402
+                        read_obj, structural_strain, write_clothsim_scene)
 
 argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 ap = argparse.ArgumentParser(prog="peer_blender_motion.py")
@@ -46,29 +47,28 @@ args = ap.parse_args(argv)
 
 frames = round(args.seconds * args.fps)
 seconds = frames / args.fps
-matched = 9.81 / (0.001 * args.fps ** 2)
+matched = matched_gravity(args.fps)
 steps, step = frames * args.quality, 1.0 / (args.fps * args.quality)
-undamped = {name: 0.0 for name in ("air_damping", "tension_damping", "compression_damping", "shear_damping",
-                                   "bending_damping")}
+# The heavy sheet Blender does swing, at the peer sheet's tension: a row below, and --clothsim's pair.
+heavy = dict(settings=UNDAMPED, gravity=matched, mass=args.heavy, tension=args.tension)
 rows = [
     ("as the peer chart bakes it (Blender's defaults)", dict()),
-    ("every damping 0", dict(settings=undamped)),
-    ("every damping 0, g matched", dict(settings=undamped, gravity=matched)),
-    (f"every damping 0, g matched, {args.heavy:.1f} kg", dict(settings=undamped, gravity=matched, mass=args.heavy)),
+    ("every damping 0", dict(settings=UNDAMPED)),
+    ("every damping 0, g matched", dict(settings=UNDAMPED, gravity=matched)),
+    (f"every damping 0, g matched, {args.heavy:.1f} kg", heavy),
     (f"the same, tension {args.tension * args.heavy:.0f}",
-     dict(settings=undamped, gravity=matched, mass=args.heavy, tension=args.tension * args.heavy)),
-    ("corners free, every damping 0, g matched", dict(settings=undamped, gravity=matched, pinned=False)),
+     dict(settings=UNDAMPED, gravity=matched, mass=args.heavy, tension=args.tension * args.heavy)),
+    ("corners free, every damping 0, g matched", dict(settings=UNDAMPED, gravity=matched, pinned=False)),
     (f"corners free, every damping 0, g matched, {args.heavy:.1f} kg",
-     dict(settings=undamped, gravity=matched, mass=args.heavy, pinned=False)),
+     dict(settings=UNDAMPED, gravity=matched, mass=args.heavy, pinned=False)),
 ]
 print(f"{args.side} x {args.side} sheet, 1 m, {seconds:g} s simulated, Blender quality {args.quality}, tension "
       f"{args.tension:g}, {args.fps} fps; g matched = scene gravity {matched:.3f} m/s^2; a free fall under "
-      f"9.81 m/s^2 drops {0.5 * 9.81 * seconds ** 2:.3f} m ({9.81 * steps * (steps + 1) / 2 * step ** 2:.4f} m in "
+      f"9.81 m/s^2 drops {0.5 * 9.81 * seconds ** 2:.3f} m ({backward_euler_fall(9.81, steps, step):.4f} m in "
       f"Blender's {steps} backward-Euler steps)")
 print(f"{'bake':<56} {'mean fall, m':>12} {'largest strain':>14} {'wall, s':>8}")
 for label, kw in rows:
-    kw.setdefault("tension", args.tension)
-    r = bake_blender(args.side, args.fps, frames, args.quality, threads=args.threads, **kw)
+    r = bake_blender(args.side, args.fps, frames, args.quality, threads=args.threads, **{"tension": args.tension, **kw})
     print(f"{label:<56} {r['sag']:>12.4f} {100 * r['max_strain']:>13.3f}% {r['wall']:>8.2f}"
           f"{'' if r['finite'] else '  (diverged)'}")
 
@@ -77,9 +77,8 @@ if args.clothsim:
     stiffness = args.tension * (args.side - 1) * args.fps ** 2 / args.heavy
     xml, stats = os.path.join(args.scratch, "sheet.xml"), os.path.join(args.scratch, "stats.json")
     pattern = write_clothsim_scene(xml, os.path.join(args.scratch, "out"), args.side, args.fps, frames, "implicit",
-                                   1.0 / (args.fps * args.quality), stiffness, damping=0.0, air_damping=0.0,
+                                   step, stiffness, damping=0.0, air_damping=0.0,
                                    bend=0.001)
-    heavy = dict(settings=undamped, gravity=matched, mass=args.heavy, tension=args.tension)
     walls_b, walls_c = [], []
     for _ in range(args.repeats):
         b = bake_blender(args.side, args.fps, frames, args.quality, threads=args.threads, **heavy)
@@ -94,5 +93,5 @@ if args.clothsim:
     print(f"\nthe swinging sheet side by side, {args.repeats} runs each, median walls:")
     print(f"  Blender, {args.heavy:.1f} kg, tension {args.tension:g}: fall {b['sag']:.4f} m, largest strain "
           f"{100 * b['max_strain']:.2f}%, wall {wb:.2f} s")
-    print(f"  clothsim, 1 kg, {stiffness:.1f} N/m, step {1.0 / (args.fps * args.quality):.5g} s: fall {fall:.4f} m, "
+    print(f"  clothsim, 1 kg, {stiffness:.1f} N/m, step {step:.5g} s: fall {fall:.4f} m, "
           f"largest strain {100 * strain:.2f}%, wall {wc:.2f} s; Blender / clothsim wall {wb / wc:.2f}")

@@ -55,6 +55,22 @@ def reset_scene(threads, fps, frames, gravity):
     return scene
 
 
+# Every damping setting of Blender's cloth at 0 (bench/peer_blender_motion.py and its test).
+UNDAMPED = {name: 0.0 for name in ("air_damping", "tension_damping", "compression_damping", "shear_damping",
+                                   "bending_damping")}
+
+
+def matched_gravity(fps):
+    """The scene gravity (m/s^2) under which Blender's cloth falls at 9.81 m/s^2: its solver counts time in frames
+    and scales the scene's gravity by 0.001, so a sheet falls under 0.001 fps^2 times it."""
+    return 9.81 / (0.001 * fps ** 2)
+
+
+def backward_euler_fall(g, steps, step):
+    """How far a free particle falls from rest in `steps` backward-Euler steps of `step` s under g: g h^2 n(n+1)/2."""
+    return g * step * step * steps * (steps + 1) / 2
+
+
 def bake_cloth(obj, pins, quality, tension, vertex_mass, frames, settings=None):
     """Gives obj a cloth modifier (the vertices `pins` pinned, tension = compression = shear, no collisions,
     `settings` overriding others by name), bakes it and returns the bake's wall and CPU seconds and the vertex

@@ -15,22 +15,20 @@ except ImportError:
     print("SKIPPED: numpy is not installed; 'tools/setup blender python3-numpy' installs it")
     sys.exit(77)
 sys.path.insert(0, sys.argv[sys.argv.index("--") + 1])
-from peer_sheet import bake_blender  # noqa: E402
+from peer_sheet import UNDAMPED, backward_euler_fall, bake_blender, matched_gravity  # noqa: E402
 
 fps, quality, frames = 24, 5, 12
-undamped = {name: 0.0 for name in ("air_damping", "tension_damping", "compression_damping", "shear_damping",
-                                   "bending_damping")}
 n, h = frames * quality, 1.0 / (fps * quality)
-matched = 9.81 / (0.001 * fps ** 2)
+matched = matched_gravity(fps)
 
 
 def free_fall(side, mass, gravity):
-    return bake_blender(side, fps, frames, quality, 15.0, 1, undamped, gravity=gravity, mass=mass,
+    return bake_blender(side, fps, frames, quality, 15.0, 1, UNDAMPED, gravity=gravity, mass=mass,
                         pinned=False)["sag"]
 
 
 def backward_euler(g):
-    return g * h * h * n * (n + 1) / 2
+    return backward_euler_fall(g, n, h)
 
 
 failures = []
